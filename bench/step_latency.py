@@ -1,0 +1,112 @@
+#!/usr/bin/env python3
+"""Step round-trip latency of a robot-only session: p50/p90/p99 (ms) and steps/s, written as JSON."""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "client" / "python"))
+
+import grpc  # noqa: E402
+from culinarycut import Client  # noqa: E402
+from culinarycut.errors import CulinaryCutError  # noqa: E402
+from culinarycut.launch import ServerProcess, server_binary  # noqa: E402
+
+ROBOT_ONLY = {"effects": {"robot_dynamics": True}}
+
+
+def cpu_model() -> str:
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown"
+
+
+def machine_info() -> dict:
+    return {"cpu_model": cpu_model(), "cores": os.cpu_count(), "platform": platform.platform(),
+            "python": platform.python_version(), "grpcio": grpc.__version__, "numpy": np.__version__}
+
+
+def measure(client: Client, steps: int, warmup: int) -> dict:
+    sid = client.create_session(ROBOT_ONLY).session_id
+    try:
+        client.reset(sid, seed=0)
+        zeros = np.zeros(7)  # pd_joint_delta_pos: hold the current pose
+        for _ in range(warmup):
+            client.step(sid, "pd_joint_delta_pos", zeros)
+        latency_ns = np.empty(steps, dtype=np.int64)
+        server_ms = np.empty(steps)
+        t_start = time.perf_counter_ns()
+        for i in range(steps):
+            t0 = time.perf_counter_ns()
+            response = client.step(sid, "pd_joint_delta_pos", zeros)
+            latency_ns[i] = time.perf_counter_ns() - t0
+            server_ms[i] = response.info.step_wall_time_ms
+        total_s = (time.perf_counter_ns() - t_start) * 1e-9
+    finally:
+        client.close_session(sid)
+    ms = latency_ns * 1e-6
+    return {
+        "steps": steps, "warmup": warmup,
+        "p50_ms": float(np.percentile(ms, 50)), "p90_ms": float(np.percentile(ms, 90)),
+        "p99_ms": float(np.percentile(ms, 99)), "mean_ms": float(ms.mean()), "max_ms": float(ms.max()),
+        "steps_per_s": steps / total_s,
+        "server_step_wall_p50_ms": float(np.percentile(server_ms, 50)),
+        "server_step_wall_p99_ms": float(np.percentile(server_ms, 99)),
+    }
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--address", help="connect to this running server (host:port) instead of starting one")
+    parser.add_argument("--server", default=None, help=f"server binary to start (default {server_binary()})")
+    parser.add_argument("--steps", type=int, default=2000, help="measured Step round trips")
+    parser.add_argument("--warmup", type=int, default=100, help="unmeasured Steps first")
+    parser.add_argument("--out", type=Path, help="write the results as JSON here")
+    args = parser.parse_args(argv)
+    if args.steps < 1 or args.warmup < 0:
+        parser.error("--steps must be >= 1 and --warmup >= 0")
+
+    server = None
+    try:
+        if args.address:
+            address = args.address
+        else:
+            server = ServerProcess(args.server, max_sessions=1)
+            address = server.address
+        with Client(address) as client:
+            info = client.server_info()
+            result = measure(client, args.steps, args.warmup)
+    except (CulinaryCutError, OSError, RuntimeError, TimeoutError) as err:
+        print(f"error: {err}", file=sys.stderr)
+        return 1
+    finally:
+        if server is not None:
+            server.stop()
+
+    result.update({"address": address, "started_server": server is not None,
+                   "server": {"version": info.version, "build_id": info.build_id},
+                   "machine": machine_info(), "timestamp": time.strftime("%Y-%m-%dT%H:%M:%S%z")})
+    print(f"{result['steps']} steps: p50 {result['p50_ms']:.3f} ms  p90 {result['p90_ms']:.3f} ms  "
+          f"p99 {result['p99_ms']:.3f} ms  {result['steps_per_s']:.0f} steps/s  "
+          f"(server sim p50 {result['server_step_wall_p50_ms']:.3f} ms; {result['machine']['cpu_model']}, "
+          f"{result['machine']['cores']} cores)")
+    if args.out:
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        args.out.write_text(json.dumps(result, indent=2) + "\n")
+        print(f"wrote {args.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

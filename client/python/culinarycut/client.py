@@ -1,0 +1,123 @@
+"""Low-level synchronous client for the culinarycut.v1.Simulator gRPC service."""
+from __future__ import annotations
+
+from typing import Any, Mapping, Sequence
+
+import grpc
+import numpy as np
+from google.protobuf import json_format
+
+from culinarycut.errors import from_rpc_error
+from culinarycut.v1 import scene_pb2, simulator_pb2, simulator_pb2_grpc
+
+
+
+def scene_to_proto(scene) -> scene_pb2.SceneSpec:
+    """Accept a SceneSpec, a plain dict in proto-JSON form (camelCase or snake_case keys) or None."""
+    if scene is None:
+        return scene_pb2.SceneSpec()
+    if isinstance(scene, scene_pb2.SceneSpec):
+        return scene
+    if isinstance(scene, Mapping):
+        return json_format.ParseDict(dict(scene), scene_pb2.SceneSpec())
+    raise TypeError(f"scene must be a dict, SceneSpec or None, not {type(scene).__name__}")
+
+
+def _f64(values) -> np.ndarray:
+    return np.asarray(values, dtype=np.float64)
+
+
+def observation_to_dict(obs: simulator_pb2.Observation) -> dict[str, dict[str, np.ndarray]]:
+    """Observation proto to a ManiSkill-style nested dict of float64 arrays (SI units)."""
+    return {
+        "agent": {
+            "qpos": _f64(obs.agent.qpos),                # rad
+            "qvel": _f64(obs.agent.qvel),                # rad/s
+            "qpos_target": _f64(obs.agent.qpos_target),  # rad
+        },
+        "extra": {
+            "tcp_pose": _f64(obs.tcp_pose),              # [m x3, quaternion wxyz]
+            "tcp_velocity": _f64(obs.tcp_velocity),      # [m/s x3, rad/s x3]
+            "flange_pose": _f64(obs.flange_pose),        # [m x3, quaternion wxyz]
+        },
+    }
+
+
+def stamp_to_dict(stamp: simulator_pb2.FrameStamp) -> dict[str, Any]:
+    return {"frame_id": int(stamp.frame_id), "sim_time": float(stamp.sim_time)}
+
+
+def step_info_to_dict(info: simulator_pb2.StepInfo) -> dict[str, Any]:
+    return {
+        "substeps": int(info.substeps),
+        "action_clipped": bool(info.action_clipped),
+        "ik_converged": bool(info.ik_converged),
+        "ik_position_error": float(info.ik_position_error),        # m
+        "ik_orientation_error": float(info.ik_orientation_error),  # rad
+        "step_wall_time_ms": float(info.step_wall_time_ms),
+    }
+
+
+class Client:
+    """One insecure channel to a CulinaryCut server; every call raises a CulinaryCutError on failure."""
+
+    def __init__(self, address: str = "127.0.0.1:50051", timeout_s: float = 30.0):
+        self.address = address
+        self.timeout_s = timeout_s
+        self._channel = grpc.insecure_channel(address)
+        self._stub = simulator_pb2_grpc.SimulatorStub(self._channel)
+
+    def _call(self, method, request):
+        try:
+            return method(request, timeout=self.timeout_s)
+        except grpc.RpcError as err:
+            raise from_rpc_error(err) from None  # the grpc traceback adds nothing for the caller
+
+    def server_info(self) -> simulator_pb2.ServerInfo:
+        return self._call(self._stub.GetServerInfo, simulator_pb2.GetServerInfoRequest())
+
+    def create_session(self, scene=None) -> simulator_pb2.CreateSessionResponse:
+        request = simulator_pb2.CreateSessionRequest(scene=scene_to_proto(scene))
+        return self._call(self._stub.CreateSession, request)
+
+    def reset(self, session_id: str, seed: int | None = None,
+              initial_qpos: Sequence[float] | None = None) -> simulator_pb2.ResetResponse:
+        request = simulator_pb2.ResetRequest(session_id=session_id)
+        if seed is not None:
+            request.seed = int(seed)
+        if initial_qpos is not None:
+            request.initial_qpos.extend(_f64(initial_qpos).ravel().tolist())
+        return self._call(self._stub.Reset, request)
+
+    def step(self, session_id: str, control_mode: str | None,
+             values: Sequence[float]) -> simulator_pb2.StepResponse:
+        """One control step; control_mode None or "" means the session's default mode."""
+        action = simulator_pb2.Action(control_mode=control_mode or "",
+                                      values=_f64(values).ravel().tolist())
+        return self._call(self._stub.Step, simulator_pb2.StepRequest(session_id=session_id, action=action))
+
+    def observe(self, session_id: str) -> simulator_pb2.ObserveResponse:
+        return self._call(self._stub.Observe, simulator_pb2.ObserveRequest(session_id=session_id))
+
+    def close_session(self, session_id: str) -> simulator_pb2.CloseSessionResponse:
+        return self._call(self._stub.CloseSession, simulator_pb2.CloseSessionRequest(session_id=session_id))
+
+    def save_snapshot(self, session_id: str) -> bytes:
+        response = self._call(self._stub.SaveSnapshot, simulator_pb2.SaveSnapshotRequest(session_id=session_id))
+        return response.snapshot
+
+    def restore_snapshot(self, session_id: str, snapshot: bytes) -> simulator_pb2.RestoreSnapshotResponse:
+        request = simulator_pb2.RestoreSnapshotRequest(session_id=session_id, snapshot=snapshot)
+        return self._call(self._stub.RestoreSnapshot, request)
+
+    def close(self) -> None:
+        self._channel.close()
+
+    def __enter__(self) -> "Client":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def __repr__(self) -> str:
+        return f"Client(address={self.address!r}, timeout_s={self.timeout_s})"

@@ -1,0 +1,150 @@
+"""CulinaryCutEnv: a Gymnasium-API environment backed by one server session."""
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from culinarycut.client import (Client, observation_to_dict, stamp_to_dict, step_info_to_dict)
+from culinarycut.errors import InvalidArgument, NotFound
+from culinarycut.spaces import box_from_array_spec, dict_from_array_specs
+
+_RESET_OPTIONS = {"initial_qpos"}
+
+
+class CulinaryCutEnv:
+    """Gymnasium-style env (reset/step/close, observation_space/action_space) over gRPC.
+
+    The session is created in __init__ because the spaces come from the CreateSession handshake.
+    Seeding: reset(seed=s) reseeds np_random and the server with s; reset() without a seed first uses
+    the scene's seed, then draws each episode's server seed from np_random, so a run is reproducible.
+    """
+
+    metadata: dict[str, Any] = {"render_modes": []}
+    spec = None
+    render_mode = None
+
+    def __init__(self, address: str = "127.0.0.1:50051", scene=None, control_mode: str = "pd_ee_delta_pose",
+                 client: Client | None = None):
+        self._owns_client = client is None
+        self.client = client if client is not None else Client(address)
+        self._session_id: str | None = None
+        self._np_random: np.random.Generator | None = None
+        self._np_random_seed: int | None = None
+        try:
+            handshake = self.client.create_session(scene)
+        except Exception:
+            if self._owns_client:
+                self.client.close()
+            raise
+        self._session_id = handshake.session_id
+        self.handshake = handshake
+        modes = {m.name: m for m in handshake.control_modes}
+        if control_mode not in modes:
+            self.close()
+            raise ValueError(f"control_mode {control_mode!r} is not offered by the server; "
+                             f"choose one of {sorted(modes)}")
+        self.control_mode = control_mode
+        self.action_space = box_from_array_spec(modes[control_mode].action)
+        self.observation_space = dict_from_array_specs(handshake.observation_spec)
+        self.control_timestep = float(handshake.control_timestep)  # s of sim time per step
+        # Per-instance copy so render_fps reflects this session's control rate.
+        self.metadata = dict(type(self).metadata)
+        if self.control_timestep > 0:
+            self.metadata["render_fps"] = 1.0 / self.control_timestep
+
+    @property
+    def session_id(self) -> str | None:
+        return self._session_id
+
+    @property
+    def np_random(self) -> np.random.Generator:
+        if self._np_random is None:
+            self._seed_np_random(None)
+        return self._np_random
+
+    @np_random.setter
+    def np_random(self, value: np.random.Generator) -> None:
+        self._np_random = value
+        self._np_random_seed = -1  # as gymnasium: unknown once set from outside
+
+    @property
+    def np_random_seed(self) -> int | None:
+        return self._np_random_seed
+
+    def _seed_np_random(self, seed: int | None) -> None:
+        seq = np.random.SeedSequence(seed)
+        self._np_random = np.random.Generator(np.random.PCG64(seq))
+        self._np_random_seed = int(seq.entropy)
+
+    @property
+    def unwrapped(self) -> "CulinaryCutEnv":
+        return self
+
+    def _require_open(self) -> str:
+        if self._session_id is None:
+            raise RuntimeError("CulinaryCutEnv is closed")
+        return self._session_id
+
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+        """Start an episode; options may carry "initial_qpos" (7 joint angles, rad)."""
+        session_id = self._require_open()
+        options = dict(options or {})
+        unknown = set(options) - _RESET_OPTIONS
+        if unknown:
+            raise ValueError(f"unknown reset option(s) {sorted(unknown)}; supported: {sorted(_RESET_OPTIONS)}")
+        if seed is not None:
+            self._seed_np_random(seed)
+            server_seed = int(seed)
+        elif self._np_random is None:
+            server_seed = None  # first episode: the scene's seed
+        else:
+            server_seed = int(self._np_random.integers(2**63))
+        response = self.client.reset(session_id, seed=server_seed, initial_qpos=options.get("initial_qpos"))
+        if self._np_random is None:
+            self._seed_np_random(int(response.seed))
+        info = stamp_to_dict(response.stamp)
+        info["seed"] = int(response.seed)
+        return observation_to_dict(response.observation), info
+
+    def step(self, action):
+        """Apply one action for control_timestep seconds; returns (obs, reward, terminated, truncated, info)."""
+        session_id = self._require_open()
+        values = np.asarray(action, dtype=np.float64)
+        try:
+            response = self.client.step(session_id, self.control_mode, values)
+        except InvalidArgument as err:
+            # The server decides; we only add what the client knows about the expected shape.
+            expected = int(np.prod(self.action_space.shape))
+            if values.size != expected:
+                raise InvalidArgument(f"{err.details} (client: action has {values.size} values, "
+                                      f"{self.control_mode} expects shape {self.action_space.shape})") from None
+            raise
+        info = stamp_to_dict(response.stamp)
+        info.update(step_info_to_dict(response.info))
+        return (observation_to_dict(response.observation), float(response.reward),
+                bool(response.terminated), bool(response.truncated), info)
+
+    def render(self):
+        return None  # render_mode is None: no rendering capability yet
+
+    def close(self) -> None:
+        """Close the server session (and the channel if this env created it); safe to call twice."""
+        session_id, self._session_id = self._session_id, None
+        try:
+            if session_id is not None:
+                self.client.close_session(session_id)
+        except NotFound:
+            pass  # already gone (e.g. idle timeout): the goal of close() is met
+        finally:
+            if self._owns_client and session_id is not None:
+                self.client.close()
+
+    def __enter__(self) -> "CulinaryCutEnv":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def __str__(self) -> str:
+        return f"<CulinaryCutEnv session={self._session_id} control_mode={self.control_mode}>"

@@ -1,0 +1,69 @@
+"""Typed exceptions for the gRPC status codes the CulinaryCut server returns."""
+from __future__ import annotations
+
+import grpc
+
+
+class CulinaryCutError(Exception):
+    """A failed RPC: `.code` is the grpc.StatusCode, `.details` the server's message."""
+
+    code: grpc.StatusCode = grpc.StatusCode.UNKNOWN
+
+    def __init__(self, details: str = "", code: grpc.StatusCode | None = None):
+        if code is not None:
+            self.code = code
+        self.details = details
+        super().__init__(f"{self.code.name}: {details}")
+
+
+class InvalidArgument(CulinaryCutError):
+    code = grpc.StatusCode.INVALID_ARGUMENT
+
+
+class NotFound(CulinaryCutError):
+    code = grpc.StatusCode.NOT_FOUND
+
+
+class FailedPrecondition(CulinaryCutError):
+    code = grpc.StatusCode.FAILED_PRECONDITION
+
+
+class ResourceExhausted(CulinaryCutError):
+    code = grpc.StatusCode.RESOURCE_EXHAUSTED
+
+
+class Unimplemented(CulinaryCutError):
+    code = grpc.StatusCode.UNIMPLEMENTED
+
+
+class Unavailable(CulinaryCutError):
+    """The server could not be reached (not running, wrong address, or shutting down)."""
+
+    code = grpc.StatusCode.UNAVAILABLE
+
+
+class DeadlineExceeded(CulinaryCutError):
+    code = grpc.StatusCode.DEADLINE_EXCEEDED
+
+
+_BY_CODE = {
+    cls.code: cls
+    for cls in (InvalidArgument, NotFound, FailedPrecondition, ResourceExhausted, Unimplemented,
+                Unavailable, DeadlineExceeded)
+}
+
+
+def from_rpc_error(err: grpc.RpcError) -> CulinaryCutError:
+    """Map a grpc.RpcError (a grpc.Call) to the matching CulinaryCutError subclass."""
+    code = err.code() if hasattr(err, "code") else grpc.StatusCode.UNKNOWN
+    details = (err.details() if hasattr(err, "details") else None) or str(err)
+    cls = _BY_CODE.get(code)
+    if cls is None:
+        return CulinaryCutError(details, code=code)
+    return cls(details)
+
+
+__all__ = [
+    "CulinaryCutError", "InvalidArgument", "NotFound", "FailedPrecondition", "ResourceExhausted",
+    "Unimplemented", "Unavailable", "DeadlineExceeded", "from_rpc_error",
+]

@@ -1,0 +1,105 @@
+"""Start a culinarycut-server subprocess on ephemeral ports and learn its addresses from stdout."""
+from __future__ import annotations
+
+import os
+import queue
+import re
+import signal
+import subprocess
+import threading
+import time
+from pathlib import Path
+
+REPO_ROOT = Path(__file__).resolve().parents[3]
+DEFAULT_BINARY = REPO_ROOT / "build" / "server" / "culinarycut-server"
+_LISTEN_RE = re.compile(r"listening on (127\.0\.0\.1:\d+)")
+_TELEMETRY_RE = re.compile(r"telemetry on (tcp://127\.0\.0\.1:\d+)")
+
+
+def server_binary() -> Path:
+    """$CULINARYCUT_SERVER if set, else <repo>/build/server/culinarycut-server."""
+    env = os.environ.get("CULINARYCUT_SERVER")
+    return Path(env) if env else DEFAULT_BINARY
+
+
+class ServerProcess:
+    """A running server; `address` is host:port for gRPC, `telemetry` the ZeroMQ PUB endpoint."""
+
+    def __init__(self, binary: Path | str | None = None, max_sessions: int = 8, idle_timeout_s: float = 60,
+                 extra_args: list[str] | None = None, startup_timeout_s: float = 30.0):
+        self.binary = Path(binary) if binary else server_binary()
+        if not (self.binary.is_file() and os.access(self.binary, os.X_OK)):
+            raise FileNotFoundError(
+                f"culinarycut-server binary not found or not executable at {self.binary}; "
+                "build it with scripts/build.sh or set CULINARYCUT_SERVER to its path")
+        self.args = [str(self.binary), "--listen", "127.0.0.1:0", "--telemetry", "tcp://127.0.0.1:0",
+                     "--max-sessions", str(max_sessions), "--idle-timeout", f"{idle_timeout_s:g}",
+                     *(extra_args or [])]
+        self.lines: list[str] = []  # everything the server printed (stdout and stderr interleaved)
+        self._lines_q: queue.Queue[str | None] = queue.Queue()
+        self.proc = subprocess.Popen(self.args, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                     text=True, bufsize=1)
+        # Drain the pipe for the server's whole life so a chatty server never blocks on a full pipe.
+        self._reader = threading.Thread(target=self._drain, daemon=True)
+        self._reader.start()
+        try:
+            self.address, self.telemetry = self._wait_for_addresses(startup_timeout_s)
+        except Exception:
+            self.kill()
+            raise
+
+    def _drain(self) -> None:
+        assert self.proc.stdout is not None
+        for line in self.proc.stdout:
+            self.lines.append(line.rstrip("\n"))
+            self._lines_q.put(line)
+        self._lines_q.put(None)
+
+    def _wait_for_addresses(self, timeout_s: float) -> tuple[str, str]:
+        address = telemetry = None
+        deadline = time.monotonic() + timeout_s
+        while address is None or telemetry is None:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                raise TimeoutError(f"server did not print its addresses within {timeout_s:.0f} s; "
+                                   f"args {self.args}; output so far:\n{self.output()}")
+            try:
+                line = self._lines_q.get(timeout=remaining)
+            except queue.Empty:
+                continue
+            if line is None:
+                code = self.proc.wait()
+                raise RuntimeError(f"server exited with code {code} before it was ready; args {self.args}; "
+                                   f"output:\n{self.output()}")
+            if m := _LISTEN_RE.search(line):
+                address = m.group(1)
+            if m := _TELEMETRY_RE.search(line):
+                telemetry = m.group(1)
+        return address, telemetry
+
+    def output(self, last: int = 60) -> str:
+        return "\n".join(self.lines[-last:])
+
+    def stop(self, timeout_s: float = 20.0) -> int:
+        """SIGTERM and wait; returns the exit code (kills and raises TimeoutError if it hangs)."""
+        if self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGTERM)
+        try:
+            code = self.proc.wait(timeout=timeout_s)
+        except subprocess.TimeoutExpired:
+            self.kill()
+            raise TimeoutError(f"server did not exit within {timeout_s:.0f} s of SIGTERM; "
+                               f"output:\n{self.output()}") from None
+        self._reader.join(timeout=5)
+        return code
+
+    def kill(self) -> None:
+        if self.proc.poll() is None:
+            self.proc.kill()
+            self.proc.wait()
+
+    def __enter__(self) -> "ServerProcess":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.stop()

@@ -1,0 +1,38 @@
+#include "sim/core/pose.h"
+
+namespace culinarycut {
+
+Vector7d PoseToVector(const Eigen::Isometry3d& pose) {
+  Eigen::Quaterniond q(pose.rotation());
+  // Keep w >= 0 so equal rotations give equal vectors.
+  if (q.w() < 0) q.coeffs() *= -1.0;
+  Vector7d out;
+  out << pose.translation(), q.w(), q.x(), q.y(), q.z();
+  return out;
+}
+
+Eigen::Isometry3d PoseFromVector(const Vector7d& pose) {
+  Eigen::Quaterniond q(pose[3], pose[4], pose[5], pose[6]);
+  q.normalize();
+  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+  out.linear() = q.toRotationMatrix();
+  out.translation() = pose.head<3>();
+  return out;
+}
+
+Eigen::Vector3d OrientationError(const Eigen::Matrix3d& from, const Eigen::Matrix3d& to) {
+  const Eigen::AngleAxisd delta(to * from.transpose());
+  return delta.axis() * delta.angle();
+}
+
+Eigen::Matrix3d RotationFromAxisAngle(const Eigen::Vector3d& axis_angle) {
+  const double angle = axis_angle.norm();
+  if (angle < 1e-15) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(angle, axis_angle / angle).toRotationMatrix();
+}
+
+double AngleBetween(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
+  return Eigen::AngleAxisd(a.transpose() * b).angle();
+}
+
+}  // namespace culinarycut

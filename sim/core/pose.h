@@ -1,0 +1,27 @@
+// Rigid-pose helpers. Quaternions are stored (w, x, y, z) on the wire and in 7-vectors
+// [x, y, z, qw, qx, qy, qz]; positions in metres, angles in radians.
+#pragma once
+
+#include <Eigen/Geometry>
+
+namespace culinarycut {
+
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+using Vector7d = Eigen::Matrix<double, 7, 1>;
+
+// [x, y, z, qw, qx, qy, qz] from an isometry.
+Vector7d PoseToVector(const Eigen::Isometry3d& pose);
+
+// Isometry from [x, y, z, qw, qx, qy, qz]; the quaternion is normalised (caller checks norm > 0).
+Eigen::Isometry3d PoseFromVector(const Vector7d& pose);
+
+// Rotation vector (axis * angle, rad) taking `from` to `to`, expressed in the world frame.
+Eigen::Vector3d OrientationError(const Eigen::Matrix3d& from, const Eigen::Matrix3d& to);
+
+// Rotation matrix from an axis-angle vector (rad).
+Eigen::Matrix3d RotationFromAxisAngle(const Eigen::Vector3d& axis_angle);
+
+// Angle (rad) between two orientations, in [0, pi].
+double AngleBetween(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b);
+
+}  // namespace culinarycut

@@ -1,0 +1,36 @@
+// Wall-clock time spent in each named stage of Step, accumulated in the State (MuJoCo's mjTimerStat).
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+
+namespace culinarycut {
+
+enum class Stage { kControl = 0, kPhysics, kCount };
+
+struct StageTimers {
+  std::array<double, static_cast<int>(Stage::kCount)> total_seconds{};
+  std::array<std::uint64_t, static_cast<int>(Stage::kCount)> calls{};
+};
+
+// Adds the lifetime of this object to one stage of a StageTimers.
+class ScopedStageTimer {
+ public:
+  ScopedStageTimer(StageTimers* timers, Stage stage)
+      : timers_(timers), stage_(static_cast<int>(stage)), start_(std::chrono::steady_clock::now()) {}
+  ~ScopedStageTimer() {
+    const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start_;
+    timers_->total_seconds[stage_] += elapsed.count();
+    timers_->calls[stage_] += 1;
+  }
+  ScopedStageTimer(const ScopedStageTimer&) = delete;
+  ScopedStageTimer& operator=(const ScopedStageTimer&) = delete;
+
+ private:
+  StageTimers* timers_;
+  int stage_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace culinarycut

@@ -1,0 +1,27 @@
+// Forward kinematics and the geometric Jacobian of a RobotDescription, in the robot base frame.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "sim/robot/robot_description.h"
+
+namespace culinarycut {
+
+using Jacobian = Eigen::Matrix<double, 6, Eigen::Dynamic>;  // rows: linear (m/rad), angular (rad/rad)
+
+// Pose of every movable link frame in the base frame; returns links[dof-1]'s pose.
+Eigen::Isometry3d ForwardKinematics(const RobotDescription& robot, const Eigen::VectorXd& q_rad,
+                                    std::vector<Eigen::Isometry3d>* link_poses = nullptr);
+
+// Pose of a frame fixed to the last link (`tip_in_last_link`) in the base frame.
+Eigen::Isometry3d TipPose(const RobotDescription& robot, const Eigen::VectorXd& q_rad,
+                          const Eigen::Isometry3d& tip_in_last_link);
+
+// 6 x dof Jacobian of the tip point and frame, both expressed in the base frame.
+Jacobian TipJacobian(const RobotDescription& robot, const Eigen::VectorXd& q_rad,
+                     const Eigen::Isometry3d& tip_in_last_link);
+
+}  // namespace culinarycut

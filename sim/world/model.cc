@@ -1,0 +1,76 @@
+#include "sim/world/model.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <sstream>
+
+namespace culinarycut {
+namespace {
+
+// FNV-1a over raw bytes: a stable fingerprint of what a snapshot depends on.
+void HashBytes(std::uint64_t* hash, const void* data, size_t size) {
+  const auto* bytes = static_cast<const unsigned char*>(data);
+  for (size_t i = 0; i < size; ++i) {
+    *hash ^= bytes[i];
+    *hash *= 1099511628211ULL;
+  }
+}
+
+}  // namespace
+
+std::string DefaultRobotUrdfPath() {
+  const char* assets = std::getenv("CULINARYCUT_ASSETS_DIR");
+  const std::string root = (assets && *assets) ? assets : CULINARYCUT_ASSETS_DIR;
+  return root + "/panda/panda_knife.urdf";
+}
+
+std::optional<std::string> CheckJointPositions(const RobotDescription& robot, const std::vector<double>& q_rad,
+                                               const std::string& field) {
+  std::ostringstream error;
+  if (static_cast<int>(q_rad.size()) != robot.dof()) {
+    error << field << " must have " << robot.dof() << " values, got " << q_rad.size();
+    return error.str();
+  }
+  for (int i = 0; i < robot.dof(); ++i) {
+    const JointLimits& limits = robot.limits[i];
+    if (!std::isfinite(q_rad[i]) || q_rad[i] < limits.lower_rad || q_rad[i] > limits.upper_rad) {
+      error << field << "[" << i << "] = " << q_rad[i] << " rad is outside the joint limits [" << limits.lower_rad
+            << ", " << limits.upper_rad << "]";
+      return error.str();
+    }
+  }
+  return std::nullopt;
+}
+
+std::shared_ptr<const Model> CompileModel(const SceneConfig& config, const RobotDescription& robot) {
+  if (const auto error = ValidateSceneConfig(config)) throw SceneError(*error);
+  auto model = std::make_shared<Model>();
+  model->config = config;
+  model->robot = robot;
+  model->robot_base_in_world = Eigen::Isometry3d::Identity();
+  model->robot_base_in_world.translation() = model->layout.robot_base_position_m;
+  model->tcp_in_last_link = robot.TipFrame(kTcpFrame);
+  model->flange_in_last_link = robot.TipFrame(kFlangeFrame);
+  model->control_timestep_s = 1.0 / config.robot.control_frequency_hz;
+  model->substeps_per_control_step =
+      static_cast<int>(std::lround(config.robot.physics_frequency_hz / config.robot.control_frequency_hz));
+  model->physics_timestep_s = model->control_timestep_s / model->substeps_per_control_step;
+
+  std::vector<double> initial = config.robot.initial_qpos_rad.empty() ? ReadyPose() : config.robot.initial_qpos_rad;
+  model->config.robot.initial_qpos_rad = initial;
+  model->initial_qpos_rad = Eigen::Map<const Eigen::VectorXd>(initial.data(), static_cast<long>(initial.size()));
+  if (const auto error = CheckJointPositions(robot, initial, "scene.robot.initial_qpos")) throw SceneError(*error);
+
+  std::uint64_t hash = 1469598103934665603ULL;
+  HashBytes(&hash, &model->control_timestep_s, sizeof(double));
+  HashBytes(&hash, &model->substeps_per_control_step, sizeof(int));
+  HashBytes(&hash, &config.robot.joint_stiffness_per_s, sizeof(double));
+  HashBytes(&hash, robot.name.data(), robot.name.size());
+  for (const auto& origin : robot.joint_origins) HashBytes(&hash, origin.data(), 16 * sizeof(double));
+  for (const auto& link : robot.links) HashBytes(&hash, &link.mass_kg, sizeof(double));
+  model->fingerprint = hash;
+  return model;
+}
+
+}  // namespace culinarycut

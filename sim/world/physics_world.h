@@ -1,0 +1,69 @@
+// The Bullet world of one session: the robot as a fixed-base btMultiBody with joint motors and
+// limit constraints, plus the table and the cutting board as static bodies. Not thread-safe;
+// one session owns one PhysicsWorld. Rebuilt from (Model, joint state) on reset and restore, so
+// no solver cache from the past leaks into a restored trajectory.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "sim/robot/robot_description.h"
+#include "sim/world/scene_layout.h"
+
+class btCollisionShape;
+class btMultiBody;
+class btMultiBodyJointMotor;
+class btMultiBodyJointLimitConstraint;
+class btMultiBodyDynamicsWorld;
+class btMultiBodyLinkCollider;
+class btRigidBody;
+class btDefaultCollisionConfiguration;
+class btCollisionDispatcher;
+class btBroadphaseInterface;
+class btMultiBodyConstraintSolver;
+
+namespace culinarycut {
+
+class PhysicsWorld {
+ public:
+  PhysicsWorld(const RobotDescription& robot, const SceneLayout& layout, double physics_timestep_s);
+  ~PhysicsWorld();
+  PhysicsWorld(const PhysicsWorld&) = delete;
+  PhysicsWorld& operator=(const PhysicsWorld&) = delete;
+
+  void SetJointState(const Eigen::VectorXd& q_rad, const Eigen::VectorXd& qdot_rad_s);
+  Eigen::VectorXd JointPositions() const;
+  Eigen::VectorXd JointVelocities() const;
+
+  // Joint motors drive each joint towards a velocity (rad/s) with at most its effort limit.
+  void SetJointVelocityCommand(const Eigen::VectorXd& qdot_rad_s);
+
+  // Advances by one physics timestep.
+  void StepOnce();
+
+  // World pose of movable link i's frame (URDF link frame, not the COM frame) as Bullet sees it.
+  Eigen::Isometry3d LinkPose(int link_index) const;
+
+ private:
+  void AddStaticBox(const Eigen::Vector3d& size_m, const Eigen::Vector3d& center_m);
+  void BuildRobot(const RobotDescription& robot, const SceneLayout& layout);
+
+  double physics_timestep_s_;
+  std::vector<Eigen::Vector3d> link_com_offsets_m_;  // COM in link frame, to recover link poses
+  std::vector<double> max_effort_nm_;
+  std::unique_ptr<btDefaultCollisionConfiguration> collision_configuration_;
+  std::unique_ptr<btCollisionDispatcher> dispatcher_;
+  std::unique_ptr<btBroadphaseInterface> broadphase_;
+  std::unique_ptr<btMultiBodyConstraintSolver> solver_;
+  std::unique_ptr<btMultiBodyDynamicsWorld> world_;
+  std::unique_ptr<btMultiBody> robot_;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes_;
+  std::vector<std::unique_ptr<btMultiBodyLinkCollider>> link_colliders_;
+  std::vector<std::unique_ptr<btMultiBodyJointMotor>> motors_;
+  std::vector<std::unique_ptr<btMultiBodyJointLimitConstraint>> limit_constraints_;
+  std::vector<std::unique_ptr<btRigidBody>> static_bodies_;
+};
+
+}  // namespace culinarycut

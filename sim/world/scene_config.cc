@@ -1,0 +1,41 @@
+#include "sim/world/scene_config.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace culinarycut {
+
+std::vector<double> ReadyPose() { return {0.0, -M_PI / 4, 0.0, -3 * M_PI / 4, 0.0, M_PI / 2, M_PI / 4}; }
+
+std::optional<std::string> ValidateSceneConfig(const SceneConfig& config) {
+  std::ostringstream error;
+  const RobotConfig& robot = config.robot;
+  if (!std::isfinite(robot.control_frequency_hz) || robot.control_frequency_hz <= 0 || robot.control_frequency_hz > 1000) {
+    error << "scene.robot.control_frequency_hz must be in (0, 1000] Hz, got " << robot.control_frequency_hz;
+    return error.str();
+  }
+  const double ratio = robot.physics_frequency_hz / robot.control_frequency_hz;
+  if (!std::isfinite(ratio) || ratio < 1 || std::abs(ratio - std::round(ratio)) > 1e-9 || robot.physics_frequency_hz > 20000) {
+    error << "scene.robot.physics_frequency_hz (" << robot.physics_frequency_hz
+          << " Hz) must be an integer multiple of control_frequency_hz (" << robot.control_frequency_hz
+          << " Hz) and at most 20000 Hz";
+    return error.str();
+  }
+  if (robot.physics_frequency_hz < 500) {
+    error << "scene.robot.physics_frequency_hz must be at least 500 Hz for stable joint control, got "
+          << robot.physics_frequency_hz;
+    return error.str();
+  }
+  if (!std::isfinite(robot.joint_stiffness_per_s) || robot.joint_stiffness_per_s <= 0 ||
+      robot.joint_stiffness_per_s > 0.5 * robot.physics_frequency_hz) {
+    error << "scene.robot.joint_stiffness must be in (0, physics_frequency_hz / 2] 1/s, got "
+          << robot.joint_stiffness_per_s;
+    return error.str();
+  }
+  if (config.scene != "table" && config.scene != "kitchen") {
+    return "scene.scene must be \"table\" or \"kitchen\", got \"" + config.scene + "\"";
+  }
+  return std::nullopt;
+}
+
+}  // namespace culinarycut

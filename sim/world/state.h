@@ -1,0 +1,33 @@
+// Everything that changes while a session runs (MuJoCo's mjData). Snapshot/restore is a copy of it.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <random>
+
+#include <Eigen/Core>
+
+#include "sim/core/stage_timer.h"
+#include "sim/world/model.h"
+#include "sim/world/physics_world.h"
+
+namespace culinarycut {
+
+struct State {
+  std::unique_ptr<PhysicsWorld> physics;  // null until the first Reset
+  std::uint64_t frame_id = 0;             // 0 after Reset, +1 per Step
+  double sim_time_s = 0.0;
+  std::uint64_t seed = 0;
+  std::uint32_t episode_steps = 0;
+  std::mt19937_64 rng;                    // the only randomness; seeded by Reset
+  Eigen::VectorXd q_target_rad;           // what the joint PD controller tracks
+  StageTimers timers;
+
+  bool has_been_reset() const { return physics != nullptr; }
+};
+
+// Starts a new episode: rebuilds the physics world and puts the robot at rest at `initial_qpos`
+// (the model's when empty). Throws SceneError when initial_qpos is out of range.
+void ResetState(const Model& model, State* state, std::uint64_t seed, const std::vector<double>& initial_qpos_rad);
+
+}  // namespace culinarycut

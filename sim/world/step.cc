@@ -1,0 +1,36 @@
+#include "sim/world/step.h"
+
+#include <chrono>
+
+namespace culinarycut {
+
+StepReport Step(const Model& model, State* state, const Action& action) {
+  const auto start = std::chrono::steady_clock::now();
+  StepReport report;
+  {
+    ScopedStageTimer timer(&state->timers, Stage::kControl);
+    JointTarget target = ComputeJointTarget(model, state->physics->JointPositions(), action);
+    state->q_target_rad = target.q_target_rad;
+    report.action_clipped = target.clipped;
+    report.ik = target.ik;
+  }
+  {
+    ScopedStageTimer timer(&state->timers, Stage::kPhysics);
+    // The PD loop runs at the physics rate: a fresh velocity command every substep.
+    for (int i = 0; i < model.substeps_per_control_step; ++i) {
+      state->physics->SetJointVelocityCommand(
+          JointVelocityCommand(model, state->physics->JointPositions(), state->q_target_rad));
+      state->physics->StepOnce();
+    }
+  }
+  report.substeps = model.substeps_per_control_step;
+  state->frame_id += 1;
+  state->episode_steps += 1;
+  // Integer frame count times the timestep, so sim time never drifts by summation.
+  state->sim_time_s = static_cast<double>(state->episode_steps) * model.control_timestep_s;
+  report.truncated = model.config.max_episode_steps > 0 && state->episode_steps >= model.config.max_episode_steps;
+  report.wall_time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
+}  // namespace culinarycut

@@ -1,0 +1,57 @@
+#include <catch2/catch.hpp>
+
+#include "sim/world/observation.h"
+#include "sim/world/snapshot.h"
+#include "sim/world/step.h"
+#include "support/robot_fixture.h"
+
+using namespace culinarycut;
+
+namespace {
+std::vector<Eigen::VectorXd> Rollout(const Model& model, State* state, int steps) {
+  std::vector<Eigen::VectorXd> trajectory;
+  for (int i = 0; i < steps; ++i) {
+    const double phase = 0.3 * i;
+    Action action{ControlMode::kEndEffectorDeltaPose,
+                  (Eigen::VectorXd(6) << 0.01 * std::sin(phase), 0.01 * std::cos(phase), -0.005, 0, 0, 0.02).finished()};
+    Step(model, state, action);
+    const RobotObservation observation = Observe(model, *state);
+    Eigen::VectorXd row(14);
+    row << observation.qpos_rad, observation.qvel_rad_s;
+    trajectory.push_back(row);
+  }
+  return trajectory;
+}
+}  // namespace
+
+TEST_CASE("restoring a snapshot replays the same trajectory bit for bit", "[snapshot]") {
+  const auto model = testing::DefaultModel();
+  State state;
+  ResetState(*model, &state, 1, {});
+  Rollout(*model, &state, 10);
+  const std::string snapshot = SaveSnapshot(*model, state);
+  const auto first = Rollout(*model, &state, 30);
+  RestoreSnapshot(*model, snapshot, &state);
+  CHECK(state.frame_id == 10);
+  const auto second = Rollout(*model, &state, 30);
+  for (size_t i = 0; i < first.size(); ++i) {
+    INFO("step " << i);
+    CHECK(first[i] == second[i]);
+  }
+}
+
+TEST_CASE("corrupt or foreign snapshots are refused and change nothing", "[snapshot]") {
+  const auto model = testing::DefaultModel();
+  State state;
+  ResetState(*model, &state, 1, {});
+  const std::string good = SaveSnapshot(*model, state);
+  Rollout(*model, &state, 2);
+  const RobotObservation before = Observe(*model, state);
+  CHECK_THROWS_AS(RestoreSnapshot(*model, "garbage", &state), SnapshotError);
+  CHECK_THROWS_AS(RestoreSnapshot(*model, good.substr(0, good.size() - 3), &state), SnapshotError);
+  SceneConfig other;
+  other.robot.control_frequency_hz = 10.0;
+  CHECK_THROWS_WITH(RestoreSnapshot(*testing::DefaultModel(other), good, &state), Catch::Contains("different scene"));
+  CHECK(Observe(*model, state).qpos_rad == before.qpos_rad);
+  CHECK(state.frame_id == 2);
+}

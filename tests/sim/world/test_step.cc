@@ -1,0 +1,96 @@
+#include <catch2/catch.hpp>
+
+#include "sim/core/pose.h"
+#include "sim/robot/kinematics.h"
+#include "sim/world/observation.h"
+#include "sim/world/step.h"
+#include "support/robot_fixture.h"
+
+using namespace culinarycut;
+
+namespace {
+
+Action PoseAction(const Eigen::Isometry3d& pose) { return Action{ControlMode::kEndEffectorPose, PoseToVector(pose)}; }
+
+// Reachable knife poses: the TCP of joint configurations near the ready pose, above the table.
+std::vector<Eigen::Isometry3d> RandomReachableTargets(const Model& model, int count, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> offset(-0.5, 0.5);
+  std::vector<Eigen::Isometry3d> targets;
+  while (static_cast<int>(targets.size()) < count) {
+    Eigen::VectorXd q = model.initial_qpos_rad;
+    for (int i = 0; i < q.size(); ++i) q[i] += offset(rng);
+    q = ClampToJointLimits(model.robot, q, 0.05);
+    const Eigen::Isometry3d tcp = model.robot_base_in_world * TipPose(model.robot, q, model.tcp_in_last_link);
+    if (tcp.translation().z() > 0.08) targets.push_back(tcp);
+  }
+  return targets;
+}
+
+}  // namespace
+
+TEST_CASE("pd_ee_pose reaches random targets within 1 mm and 1 degree in 3 s, inside the joint limits", "[step]") {
+  const auto model = testing::DefaultModel();
+  const int max_steps = static_cast<int>(3.0 / model->control_timestep_s);
+  int index = 0;
+  for (const Eigen::Isometry3d& target : RandomReachableTargets(*model, 24, 17)) {
+    State state;
+    ResetState(*model, &state, 0, {});
+    double position_error = 1e9, angle_error = 1e9;
+    for (int step = 0; step < max_steps; ++step) {
+      Step(*model, &state, PoseAction(target));
+      const RobotObservation observation = Observe(*model, state);
+      for (int j = 0; j < 7; ++j) {
+        REQUIRE(observation.qpos_rad[j] >= model->robot.limits[j].lower_rad);
+        REQUIRE(observation.qpos_rad[j] <= model->robot.limits[j].upper_rad);
+      }
+      const Eigen::Isometry3d tcp = PoseFromVector(observation.tcp_pose);
+      position_error = (tcp.translation() - target.translation()).norm();
+      angle_error = AngleBetween(tcp.linear(), target.linear());
+      if (position_error < 1e-3 && angle_error < M_PI / 180) break;
+    }
+    INFO("target " << index++ << " at " << target.translation().transpose());
+    CHECK(position_error < 1e-3);
+    CHECK(angle_error < M_PI / 180);
+  }
+}
+
+TEST_CASE("a step advances the frame id and the sim time by one control period", "[step]") {
+  SceneConfig config;
+  config.max_episode_steps = 3;
+  const auto model = testing::DefaultModel(config);
+  State state;
+  ResetState(*model, &state, 42, {});
+  const Action hold{ControlMode::kJointDeltaPosition, Eigen::VectorXd::Zero(7)};
+  StepReport report;
+  for (int i = 0; i < 3; ++i) {
+    CHECK_FALSE(report.truncated);
+    report = Step(*model, &state, hold);
+  }
+  CHECK(report.truncated);
+  CHECK(report.substeps == 25);
+  CHECK(state.frame_id == 3);
+  CHECK(state.sim_time_s == Approx(0.15));
+}
+
+TEST_CASE("same seed and actions give identical observations", "[step]") {
+  const auto model = testing::DefaultModel();
+  State a, b;
+  ResetState(*model, &a, 9, {});
+  ResetState(*model, &b, 9, {});
+  const Action action{ControlMode::kEndEffectorDeltaPose, (Eigen::VectorXd(6) << 0.01, -0.02, -0.03, 0.0, 0.05, 0.0).finished()};
+  for (int i = 0; i < 20; ++i) {
+    Step(*model, &a, action);
+    Step(*model, &b, action);
+  }
+  CHECK(Observe(*model, a).qpos_rad == Observe(*model, b).qpos_rad);
+  CHECK(Observe(*model, a).qvel_rad_s == Observe(*model, b).qvel_rad_s);
+}
+
+TEST_CASE("a bad initial qpos at reset is refused with the joint named", "[step]") {
+  const auto model = testing::DefaultModel();
+  State state;
+  CHECK_THROWS_WITH(ResetState(*model, &state, 0, {0, 0, 0, 0, 0, 0, 0}), Catch::Contains("initial_qpos[3]"));
+  CHECK_THROWS_WITH(ResetState(*model, &state, 0, {0, 0}), Catch::Contains("7 values"));
+  CHECK_FALSE(state.has_been_reset());
+}
