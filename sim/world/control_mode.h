@@ -16,6 +16,9 @@ enum class ControlMode {
   kEndEffectorDeltaPose,   // pd_ee_delta_pose: [dx, dy, dz] (m, world) + axis-angle [rx, ry, rz] (rad, world-aligned, about the TCP)
 };
 
+// What an action with no control mode means (ManiSkill's usual choice for teleoperation and VLAs).
+inline constexpr ControlMode kDefaultControlMode = ControlMode::kEndEffectorDeltaPose;
+
 const std::vector<ControlMode>& AllControlModes();
 const char* ControlModeName(ControlMode mode);
 std::optional<ControlMode> ParseControlMode(const std::string& name);

@@ -48,6 +48,8 @@ std::optional<std::string> ValidateAction(const Model& model, const Action& acti
 JointTarget ComputeJointTarget(const Model& model, const Eigen::VectorXd& q_measured_rad, const Action& action) {
   JointTarget target;
   Eigen::VectorXd values = action.values;
+  // A quaternion of any positive norm is valid: normalise it, so clipping never changes its direction.
+  if (action.mode == ControlMode::kEndEffectorPose) values.segment<4>(3).normalize();
   target.clipped = ClipToBounds(&values, ActionBoundsFor(model, action.mode));
   switch (action.mode) {
     case ControlMode::kJointPosition:

@@ -48,6 +48,15 @@ TEST_CASE("out-of-bound actions are clipped and flagged", "[controller]") {
   CHECK(beyond.q_target_rad[0] == Approx(model->robot.limits[0].upper_rad));
 }
 
+TEST_CASE("pd_ee_pose takes a quaternion of any norm as its direction, unclipped", "[controller]") {
+  const auto model = testing::DefaultModel();
+  const Eigen::VectorXd q = model->initial_qpos_rad;
+  const JointTarget scaled = ComputeJointTarget(*model, q, MakeAction(ControlMode::kEndEffectorPose, {0.5, 0, 0.2, 0, 2, 0.2, 0}));
+  const JointTarget unit = ComputeJointTarget(*model, q, MakeAction(ControlMode::kEndEffectorPose, {0.5, 0, 0.2, 0, 1, 0.1, 0}));
+  CHECK_FALSE(scaled.clipped);
+  CHECK((scaled.q_target_rad - unit.q_target_rad).norm() < 1e-12);
+}
+
 TEST_CASE("pd_ee_delta_pose targets the TCP moved by the delta", "[controller]") {
   const auto model = testing::DefaultModel();
   const Eigen::VectorXd q = model->initial_qpos_rad;

@@ -1,0 +1,134 @@
+#include "culinarycut/client.h"
+
+namespace culinarycut {
+namespace {
+
+std::vector<double> ToVector(const google::protobuf::RepeatedField<double>& field) {
+  return std::vector<double>(field.begin(), field.end());
+}
+
+void Check(const char* method, const grpc::Status& status) {
+  if (!status.ok()) throw RpcError(method, status);
+}
+
+}  // namespace
+
+RpcError::RpcError(const std::string& method, const grpc::Status& status)
+    : std::runtime_error(method + " failed (gRPC code " + std::to_string(status.error_code()) + "): " +
+                         status.error_message()),
+      code_(status.error_code()) {}
+
+Observation FromWire(const v1::FrameStamp& stamp, const v1::Observation& wire) {
+  Observation observation;
+  observation.frame_id = stamp.frame_id();
+  observation.sim_time = stamp.sim_time();
+  observation.qpos = ToVector(wire.agent().qpos());
+  observation.qvel = ToVector(wire.agent().qvel());
+  observation.qpos_target = ToVector(wire.agent().qpos_target());
+  observation.tcp_pose = ToVector(wire.tcp_pose());
+  observation.tcp_velocity = ToVector(wire.tcp_velocity());
+  observation.flange_pose = ToVector(wire.flange_pose());
+  return observation;
+}
+
+Client::Client(const std::string& address, std::chrono::milliseconds call_timeout)
+    : channel_(grpc::CreateChannel(address, grpc::InsecureChannelCredentials())),
+      stub_(v1::Simulator::NewStub(channel_)),
+      call_timeout_(call_timeout) {}
+
+bool Client::WaitForServer(std::chrono::milliseconds timeout) {
+  return channel_->WaitForConnected(std::chrono::system_clock::now() + timeout);
+}
+
+std::unique_ptr<grpc::ClientContext> Client::MakeContext() const {
+  auto context = std::make_unique<grpc::ClientContext>();
+  context->set_deadline(std::chrono::system_clock::now() + call_timeout_);
+  return context;
+}
+
+v1::ServerInfo Client::GetServerInfo() {
+  v1::ServerInfo info;
+  Check("GetServerInfo", stub_->GetServerInfo(MakeContext().get(), v1::GetServerInfoRequest(), &info));
+  return info;
+}
+
+std::unique_ptr<Session> Client::CreateSession(const v1::SceneSpec& scene) {
+  v1::CreateSessionRequest request;
+  *request.mutable_scene() = scene;
+  v1::CreateSessionResponse response;
+  Check("CreateSession", stub_->CreateSession(MakeContext().get(), request, &response));
+  return std::make_unique<Session>(this, std::move(response));
+}
+
+Session::Session(Client* client, v1::CreateSessionResponse handshake)
+    : client_(client), handshake_(std::move(handshake)) {}
+
+Session::~Session() {
+  try {
+    Close();
+  } catch (const RpcError&) {
+    // The server may already have reclaimed or lost the session; nothing to undo.
+  }
+}
+
+Observation Session::Reset(std::optional<std::uint64_t> seed, const std::vector<double>& initial_qpos) {
+  v1::ResetRequest request;
+  request.set_session_id(id());
+  if (seed) request.mutable_seed()->set_value(*seed);
+  request.mutable_initial_qpos()->Assign(initial_qpos.begin(), initial_qpos.end());
+  v1::ResetResponse response;
+  Check("Reset", client_->stub().Reset(client_->MakeContext().get(), request, &response));
+  return FromWire(response.stamp(), response.observation());
+}
+
+StepResult Session::Step(const std::string& control_mode, const std::vector<double>& values) {
+  v1::StepRequest request;
+  request.set_session_id(id());
+  request.mutable_action()->set_control_mode(control_mode);
+  request.mutable_action()->mutable_values()->Assign(values.begin(), values.end());
+  v1::StepResponse response;
+  Check("Step", client_->stub().Step(client_->MakeContext().get(), request, &response));
+  StepResult result;
+  result.observation = FromWire(response.stamp(), response.observation());
+  result.reward = response.reward();
+  result.terminated = response.terminated();
+  result.truncated = response.truncated();
+  result.info = response.info();
+  return result;
+}
+
+Observation Session::Observe() {
+  v1::ObserveRequest request;
+  request.set_session_id(id());
+  v1::ObserveResponse response;
+  Check("Observe", client_->stub().Observe(client_->MakeContext().get(), request, &response));
+  return FromWire(response.stamp(), response.observation());
+}
+
+std::string Session::SaveSnapshot() {
+  v1::SaveSnapshotRequest request;
+  request.set_session_id(id());
+  v1::SaveSnapshotResponse response;
+  Check("SaveSnapshot", client_->stub().SaveSnapshot(client_->MakeContext().get(), request, &response));
+  return response.snapshot();
+}
+
+Observation Session::RestoreSnapshot(const std::string& snapshot) {
+  v1::RestoreSnapshotRequest request;
+  request.set_session_id(id());
+  request.set_snapshot(snapshot);
+  v1::RestoreSnapshotResponse response;
+  Check("RestoreSnapshot", client_->stub().RestoreSnapshot(client_->MakeContext().get(), request, &response));
+  return FromWire(response.stamp(), response.observation());
+}
+
+void Session::Close() {
+  if (closed_) return;
+  closed_ = true;
+  v1::CloseSessionRequest request;
+  request.set_session_id(id());
+  v1::CloseSessionResponse response;
+  Check("CloseSession", client_->stub().CloseSession(client_->MakeContext().get(), request, &response));
+}
+
+}  // namespace culinarycut

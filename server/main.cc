@@ -1,0 +1,63 @@
+// culinarycut-server: a long-running simulation server. Start it once; clients connect over gRPC.
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include "server/simulation_server.h"
+#include "server/version.h"
+
+int main(int argc, char** argv) {
+  culinarycut::server::ServerOptions options;
+  std::string log_level = "info";
+  CLI::App app{"CulinaryCut simulation server: a Franka Panda with a knife, served over gRPC (culinarycut.v1)"};
+  app.add_option("--listen", options.listen_address, "gRPC listen address host:port (port 0 picks a free one)")
+      ->capture_default_str();
+  app.add_option("--telemetry", options.telemetry_endpoint, "ZeroMQ PUB endpoint for telemetry; '' turns it off")
+      ->capture_default_str();
+  app.add_option("--max-sessions", options.max_sessions, "most sessions served at once")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 4096));
+  app.add_option("--idle-timeout", options.idle_timeout_s, "seconds after which an untouched session is closed")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--robot-urdf", options.robot_urdf_path, "robot description (default: the shipped Panda with knife)");
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
+  app.set_version_flag("--version", std::string(culinarycut::server::kServerVersion) + " (" +
+                                        culinarycut::server::kBuildId + ")");
+  CLI11_PARSE(app, argc, argv);
+  spdlog::set_level(spdlog::level::from_str(log_level));
+
+  // Block the stop signals in every thread (gRPC's included); the main thread waits for them.
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+
+  std::unique_ptr<culinarycut::server::SimulationServer> server;
+  try {
+    server = std::make_unique<culinarycut::server::SimulationServer>(options);
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "culinarycut-server: %s\n", error.what());
+    return 2;
+  }
+  // Scripts and tests wait for these two lines.
+  std::cout << "culinarycut-server listening on " << server->address() << std::endl;
+  if (!server->telemetry_endpoint().empty()) std::cout << "telemetry on " << server->telemetry_endpoint() << std::endl;
+  spdlog::info("version {} build {}; at most {} sessions, idle timeout {} s", culinarycut::server::kServerVersion,
+               culinarycut::server::kBuildId, options.max_sessions, options.idle_timeout_s);
+
+  int received = 0;
+  sigwait(&stop_signals, &received);
+  spdlog::info("received {}, shutting down ({} sessions open)", received == SIGINT ? "SIGINT" : "SIGTERM",
+               server->sessions().size());
+  server->Shutdown();
+  server.reset();
+  spdlog::info("stopped cleanly");
+  return 0;
+}

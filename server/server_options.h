@@ -1,0 +1,17 @@
+// What culinarycut-server is started with (see `culinarycut-server --help`).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace culinarycut::server {
+
+struct ServerOptions {
+  std::string listen_address = "127.0.0.1:50051";   // port 0 picks a free port
+  std::string telemetry_endpoint = "tcp://127.0.0.1:5556";  // empty: telemetry off
+  std::uint32_t max_sessions = 16;
+  double idle_timeout_s = 300.0;                     // sessions untouched this long are closed
+  std::string robot_urdf_path;                       // empty: the shipped Panda with knife
+};
+
+}  // namespace culinarycut::server

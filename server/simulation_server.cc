@@ -1,0 +1,56 @@
+#include "server/simulation_server.h"
+
+#include <chrono>
+#include <stdexcept>
+
+#include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <grpcpp/health_check_service_interface.h>
+
+#include "sim/world/model.h"
+
+namespace culinarycut::server {
+
+SimulationServer::SimulationServer(const ServerOptions& options) {
+  if (options.max_sessions == 0) throw std::runtime_error("--max-sessions must be at least 1");
+  if (!(options.idle_timeout_s > 0)) throw std::runtime_error("--idle-timeout must be a positive number of seconds");
+  const std::string urdf = options.robot_urdf_path.empty() ? DefaultRobotUrdfPath() : options.robot_urdf_path;
+  RobotDescription robot = LoadRobotDescription(urdf, kTcpFrame);
+  if (!options.telemetry_endpoint.empty()) {
+    try {
+      telemetry_ = std::make_unique<TelemetryPublisher>(options.telemetry_endpoint);
+    } catch (const std::exception& error) {
+      throw std::runtime_error("cannot bind telemetry endpoint " + options.telemetry_endpoint + ": " + error.what() +
+                               " (pick another with --telemetry, or --telemetry '' to turn it off)");
+    }
+  }
+  sessions_ = std::make_unique<SessionManager>(options.max_sessions,
+                                               std::chrono::duration<double>(options.idle_timeout_s));
+  service_ = std::make_unique<SimulatorService>(std::move(robot), sessions_.get(), telemetry_.get());
+
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  grpc::ServerBuilder builder;
+  int bound_port = 0;
+  builder.AddListeningPort(options.listen_address, grpc::InsecureServerCredentials(), &bound_port);
+  builder.RegisterService(service_.get());
+  server_ = builder.BuildAndStart();
+  if (!server_ || bound_port == 0) {
+    throw std::runtime_error("cannot listen on " + options.listen_address +
+                             " (port in use or address invalid); pick another with --listen, e.g. 127.0.0.1:0");
+  }
+  address_ = options.listen_address.substr(0, options.listen_address.rfind(':')) + ":" + std::to_string(bound_port);
+}
+
+SimulationServer::~SimulationServer() { Shutdown(); }
+
+std::string SimulationServer::telemetry_endpoint() const { return telemetry_ ? telemetry_->endpoint() : ""; }
+
+void SimulationServer::Shutdown() {
+  if (server_) {
+    server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(5));
+    server_->Wait();
+    server_.reset();
+  }
+}
+
+}  // namespace culinarycut::server

@@ -1,0 +1,41 @@
+// The whole server as an object: gRPC service, health and reflection, sessions, telemetry.
+// main() and the end-to-end tests both run it this way.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <grpcpp/grpcpp.h>
+
+#include "server/server_options.h"
+#include "server/session_manager.h"
+#include "server/simulator_service.h"
+#include "server/telemetry_publisher.h"
+
+namespace culinarycut::server {
+
+class SimulationServer {
+ public:
+  // Loads the robot, binds the sockets and starts serving. Throws std::runtime_error with a
+  // message a person can act on (port in use, bad URDF, bad telemetry endpoint).
+  explicit SimulationServer(const ServerOptions& options);
+  ~SimulationServer();
+
+  // "host:port" with the port actually bound.
+  const std::string& address() const { return address_; }
+  // The telemetry endpoint actually bound; empty when telemetry is off.
+  std::string telemetry_endpoint() const;
+  SessionManager& sessions() { return *sessions_; }
+
+  // Stops accepting calls, lets calls in flight finish (up to 5 s), then returns.
+  void Shutdown();
+
+ private:
+  std::unique_ptr<TelemetryPublisher> telemetry_;
+  std::unique_ptr<SessionManager> sessions_;
+  std::unique_ptr<SimulatorService> service_;
+  std::unique_ptr<grpc::Server> server_;
+  std::string address_;
+};
+
+}  // namespace culinarycut::server

@@ -1,0 +1,195 @@
+#include "server/simulator_service.h"
+
+#include <spdlog/spdlog.h>
+
+#include "server/version.h"
+#include "server/wire_conversion.h"
+#include "sim/world/controller.h"
+#include "sim/world/snapshot.h"
+#include "sim/world/step.h"
+
+namespace culinarycut::server {
+namespace {
+
+grpc::Status InvalidArgument(const std::string& message) {
+  return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, message);
+}
+
+grpc::Status NotReset(const Session& session) {
+  return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
+                      "session " + session.id + " has not been reset; call Reset before Step, Observe or SaveSnapshot");
+}
+
+}  // namespace
+
+SimulatorService::SimulatorService(RobotDescription robot, SessionManager* sessions, TelemetryPublisher* telemetry)
+    : robot_(std::move(robot)), sessions_(sessions), telemetry_(telemetry) {}
+
+grpc::Status SimulatorService::FindSession(const std::string& session_id, std::shared_ptr<Session>* session) {
+  if (session_id.empty()) return InvalidArgument("session_id is empty; pass the id CreateSession returned");
+  *session = sessions_->Find(session_id);
+  if (!*session) {
+    return grpc::Status(grpc::StatusCode::NOT_FOUND,
+                        "no session '" + session_id + "': it was closed, reclaimed after being idle, or never existed");
+  }
+  return grpc::Status::OK;
+}
+
+void SimulatorService::PublishTelemetry(const Session& session, const RobotObservation& observation) {
+  if (!telemetry_) return;
+  v1::TelemetryFrame frame;
+  frame.set_session_id(session.id);
+  StampToWire(observation.frame_id, observation.sim_time_s, frame.mutable_stamp());
+  frame.mutable_qpos()->Assign(observation.qpos_rad.data(), observation.qpos_rad.data() + observation.qpos_rad.size());
+  frame.mutable_qvel()->Assign(observation.qvel_rad_s.data(), observation.qvel_rad_s.data() + observation.qvel_rad_s.size());
+  frame.mutable_tcp_pose()->Assign(observation.tcp_pose.data(), observation.tcp_pose.data() + 7);
+  telemetry_->Publish(frame);
+}
+
+grpc::Status SimulatorService::GetServerInfo(grpc::ServerContext*, const v1::GetServerInfoRequest*, v1::ServerInfo* info) {
+  info->set_version(kServerVersion);
+  info->set_build_id(kBuildId);
+  info->set_protocol("culinarycut.v1");
+  for (const char* capability : {"robot", "snapshot", "health", "reflection"}) info->add_capabilities(capability);
+  if (telemetry_) {
+    info->add_capabilities("telemetry");
+    info->set_telemetry_endpoint(telemetry_->endpoint());
+  }
+  for (ControlMode mode : AllControlModes()) info->add_control_modes(ControlModeName(mode));
+  info->mutable_limits()->set_max_sessions(sessions_->max_sessions());
+  info->mutable_limits()->set_idle_timeout_s(sessions_->idle_timeout_s());
+  info->mutable_limits()->set_active_sessions(sessions_->size());
+  return grpc::Status::OK;
+}
+
+grpc::Status SimulatorService::CreateSession(grpc::ServerContext*, const v1::CreateSessionRequest* request,
+                                             v1::CreateSessionResponse* response) {
+  SceneConfig config;
+  if (grpc::Status status = SceneFromWire(request->scene(), &config); !status.ok()) return status;
+  std::shared_ptr<const Model> model;
+  try {
+    model = CompileModel(config, robot_);
+  } catch (const SceneError& error) {
+    return InvalidArgument(error.what());
+  }
+  const std::shared_ptr<Session> session = sessions_->Create(model);
+  if (!session) {
+    return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                        "the server already runs its maximum of " + std::to_string(sessions_->max_sessions()) +
+                            " sessions; close one (CloseSession) or start the server with a larger --max-sessions");
+  }
+  response->set_session_id(session->id);
+  DescribeSpaces(*model, response);
+  *response->mutable_resolved_scene() = SceneToWire(model->config);
+  spdlog::info("session {} created ({} sessions live)", session->id, sessions_->size());
+  return grpc::Status::OK;
+}
+
+grpc::Status SimulatorService::Reset(grpc::ServerContext*, const v1::ResetRequest* request, v1::ResetResponse* response) {
+  std::shared_ptr<Session> session;
+  if (grpc::Status status = FindSession(request->session_id(), &session); !status.ok()) return status;
+  std::lock_guard<std::mutex> lock(session->mutex);
+  const std::uint64_t seed = request->has_seed() ? request->seed().value() : session->model->config.seed;
+  try {
+    ResetState(*session->model, &session->state, seed,
+               std::vector<double>(request->initial_qpos().begin(), request->initial_qpos().end()));
+  } catch (const SceneError& error) {
+    return InvalidArgument(error.what());
+  }
+  const RobotObservation observation = culinarycut::Observe(*session->model, session->state);
+  StampToWire(observation.frame_id, observation.sim_time_s, response->mutable_stamp());
+  ObservationToWire(observation, response->mutable_observation());
+  response->set_seed(seed);
+  PublishTelemetry(*session, observation);
+  return grpc::Status::OK;
+}
+
+grpc::Status SimulatorService::Step(grpc::ServerContext*, const v1::StepRequest* request, v1::StepResponse* response) {
+  std::shared_ptr<Session> session;
+  if (grpc::Status status = FindSession(request->session_id(), &session); !status.ok()) return status;
+  const std::string& mode_name = request->action().control_mode();
+  const std::optional<ControlMode> mode =
+      mode_name.empty() ? std::optional<ControlMode>(kDefaultControlMode) : ParseControlMode(mode_name);
+  if (!mode) {
+    return InvalidArgument("action.control_mode '" + mode_name +
+                           "' is unknown; use pd_joint_pos, pd_joint_delta_pos, pd_ee_pose or pd_ee_delta_pose");
+  }
+  const Action action{*mode, Eigen::Map<const Eigen::VectorXd>(request->action().values().data(),
+                                                               request->action().values_size())};
+  std::lock_guard<std::mutex> lock(session->mutex);
+  if (const auto error = ValidateAction(*session->model, action)) return InvalidArgument(*error);
+  if (!session->state.has_been_reset()) return NotReset(*session);
+
+  const StepReport report = culinarycut::Step(*session->model, &session->state, action);
+  const RobotObservation observation = culinarycut::Observe(*session->model, session->state);
+  StampToWire(observation.frame_id, observation.sim_time_s, response->mutable_stamp());
+  ObservationToWire(observation, response->mutable_observation());
+  response->set_reward(0.0);  // no task yet: rewards arrive with the cutting tasks
+  response->set_terminated(false);
+  response->set_truncated(report.truncated);
+  v1::StepInfo* info = response->mutable_info();
+  info->set_substeps(report.substeps);
+  info->set_action_clipped(report.action_clipped);
+  if (report.ik) {
+    info->set_ik_converged(report.ik->converged);
+    info->set_ik_position_error(report.ik->position_error_m);
+    info->set_ik_orientation_error(report.ik->orientation_error_rad);
+  }
+  info->set_step_wall_time_ms(report.wall_time_ms);
+  PublishTelemetry(*session, observation);
+  return grpc::Status::OK;
+}
+
+grpc::Status SimulatorService::Observe(grpc::ServerContext*, const v1::ObserveRequest* request, v1::ObserveResponse* response) {
+  std::shared_ptr<Session> session;
+  if (grpc::Status status = FindSession(request->session_id(), &session); !status.ok()) return status;
+  std::lock_guard<std::mutex> lock(session->mutex);
+  if (!session->state.has_been_reset()) return NotReset(*session);
+  const RobotObservation observation = culinarycut::Observe(*session->model, session->state);
+  StampToWire(observation.frame_id, observation.sim_time_s, response->mutable_stamp());
+  ObservationToWire(observation, response->mutable_observation());
+  return grpc::Status::OK;
+}
+
+grpc::Status SimulatorService::CloseSession(grpc::ServerContext*, const v1::CloseSessionRequest* request,
+                                            v1::CloseSessionResponse* response) {
+  std::shared_ptr<Session> session;
+  if (grpc::Status status = FindSession(request->session_id(), &session); !status.ok()) return status;
+  {
+    std::lock_guard<std::mutex> lock(session->mutex);  // let a call in flight finish first
+    StampToWire(session->state.frame_id, session->state.sim_time_s, response->mutable_stamp());
+  }
+  sessions_->Close(session->id);
+  spdlog::info("session {} closed ({} sessions live)", session->id, sessions_->size());
+  return grpc::Status::OK;
+}
+
+grpc::Status SimulatorService::SaveSnapshot(grpc::ServerContext*, const v1::SaveSnapshotRequest* request,
+                                            v1::SaveSnapshotResponse* response) {
+  std::shared_ptr<Session> session;
+  if (grpc::Status status = FindSession(request->session_id(), &session); !status.ok()) return status;
+  std::lock_guard<std::mutex> lock(session->mutex);
+  if (!session->state.has_been_reset()) return NotReset(*session);
+  response->set_snapshot(culinarycut::SaveSnapshot(*session->model, session->state));
+  StampToWire(session->state.frame_id, session->state.sim_time_s, response->mutable_stamp());
+  return grpc::Status::OK;
+}
+
+grpc::Status SimulatorService::RestoreSnapshot(grpc::ServerContext*, const v1::RestoreSnapshotRequest* request,
+                                               v1::RestoreSnapshotResponse* response) {
+  std::shared_ptr<Session> session;
+  if (grpc::Status status = FindSession(request->session_id(), &session); !status.ok()) return status;
+  std::lock_guard<std::mutex> lock(session->mutex);
+  try {
+    culinarycut::RestoreSnapshot(*session->model, request->snapshot(), &session->state);
+  } catch (const SnapshotError& error) {
+    return InvalidArgument(std::string("snapshot: ") + error.what());
+  }
+  const RobotObservation observation = culinarycut::Observe(*session->model, session->state);
+  StampToWire(observation.frame_id, observation.sim_time_s, response->mutable_stamp());
+  ObservationToWire(observation, response->mutable_observation());
+  PublishTelemetry(*session, observation);
+  return grpc::Status::OK;
+}
+
+}  // namespace culinarycut::server

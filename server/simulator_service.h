@@ -1,0 +1,40 @@
+// The culinarycut.v1.Simulator gRPC service: validates every request, then runs it on its session.
+// A bad request gets a status code and a message naming the field; it never takes the server down.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "culinarycut/v1/simulator.grpc.pb.h"
+#include "server/session_manager.h"
+#include "server/telemetry_publisher.h"
+#include "sim/robot/robot_description.h"
+#include "sim/world/observation.h"
+
+namespace culinarycut::server {
+
+class SimulatorService final : public v1::Simulator::Service {
+ public:
+  // `telemetry` may be null (telemetry off).
+  SimulatorService(RobotDescription robot, SessionManager* sessions, TelemetryPublisher* telemetry);
+
+  grpc::Status GetServerInfo(grpc::ServerContext*, const v1::GetServerInfoRequest*, v1::ServerInfo*) override;
+  grpc::Status CreateSession(grpc::ServerContext*, const v1::CreateSessionRequest*, v1::CreateSessionResponse*) override;
+  grpc::Status Reset(grpc::ServerContext*, const v1::ResetRequest*, v1::ResetResponse*) override;
+  grpc::Status Step(grpc::ServerContext*, const v1::StepRequest*, v1::StepResponse*) override;
+  grpc::Status Observe(grpc::ServerContext*, const v1::ObserveRequest*, v1::ObserveResponse*) override;
+  grpc::Status CloseSession(grpc::ServerContext*, const v1::CloseSessionRequest*, v1::CloseSessionResponse*) override;
+  grpc::Status SaveSnapshot(grpc::ServerContext*, const v1::SaveSnapshotRequest*, v1::SaveSnapshotResponse*) override;
+  grpc::Status RestoreSnapshot(grpc::ServerContext*, const v1::RestoreSnapshotRequest*, v1::RestoreSnapshotResponse*) override;
+
+ private:
+  // NOT_FOUND when the id names no live session.
+  grpc::Status FindSession(const std::string& session_id, std::shared_ptr<Session>* session);
+  void PublishTelemetry(const Session& session, const RobotObservation& observation);
+
+  const RobotDescription robot_;
+  SessionManager* sessions_;
+  TelemetryPublisher* telemetry_;
+};
+
+}  // namespace culinarycut::server

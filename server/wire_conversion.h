@@ -1,0 +1,27 @@
+// Translation between the wire messages (culinarycut.v1) and the engine's plain structs.
+#pragma once
+
+#include <string>
+
+#include <grpcpp/grpcpp.h>
+
+#include "culinarycut/v1/simulator.pb.h"
+#include "sim/world/model.h"
+#include "sim/world/observation.h"
+
+namespace culinarycut::server {
+
+// Reads a SceneSpec. INVALID_ARGUMENT for malformed fields, UNIMPLEMENTED for features this
+// server does not have yet (food, cameras, tasks); each message names the field.
+grpc::Status SceneFromWire(const v1::SceneSpec& wire, SceneConfig* config);
+
+// The scene with every default filled in, as the client should record it.
+v1::SceneSpec SceneToWire(const SceneConfig& config);
+
+void ObservationToWire(const RobotObservation& observation, v1::Observation* wire);
+void StampToWire(std::uint64_t frame_id, double sim_time_s, v1::FrameStamp* wire);
+
+// The spec handshake of CreateSession: every observation array and every control mode's action.
+void DescribeSpaces(const Model& model, v1::CreateSessionResponse* response);
+
+}  // namespace culinarycut::server
