@@ -19,7 +19,7 @@ from culinarycut import Client  # noqa: E402
 from culinarycut.errors import CulinaryCutError  # noqa: E402
 from culinarycut.launch import ServerProcess, server_binary  # noqa: E402
 
-ROBOT_ONLY = {"effects": {"robot_dynamics": True}}
+ROBOT_ONLY: dict = {}  # the default scene: the robot and its knife, no food
 
 
 def cpu_model() -> str:

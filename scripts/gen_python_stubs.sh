@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Generate the Python protobuf/gRPC stubs into client/python/culinarycut/v1/ (build outputs, not committed).
+# Generates the Python protobuf/gRPC stubs with grpc_tools (Debian's python3-grpc-tools) into
+# client/python/culinarycut/v1/ (build outputs, not committed). Idempotent.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -9,15 +10,11 @@ PROTOS=(proto/culinarycut/v1/scene.proto proto/culinarycut/v1/simulator.proto)
 OUT=client/python
 mkdir -p "$OUT/culinarycut/v1"
 
-# Debian's python3-grpc-tools bundles protoc 3.5, which rejects proto3 `optional`; the system protoc
-# (3.21, same version as python3-protobuf) with grpc_python_plugin does not, so prefer it.
-PLUGIN="$(command -v grpc_python_plugin || true)"
-if command -v protoc >/dev/null 2>&1 && [[ -n "$PLUGIN" ]]; then
-  protoc -I proto --python_out="$OUT" --grpc_python_out="$OUT" \
-    --plugin=protoc-gen-grpc_python="$PLUGIN" "${PROTOS[@]}"
-else
-  /usr/bin/python3 -m grpc_tools.protoc -I proto --python_out="$OUT" --grpc_python_out="$OUT" "${PROTOS[@]}"
-fi
+# grpc_tools bundles its own protoc (3.5 on Debian 12, no proto3 `optional`) and the well-known
+# types (google/protobuf/wrappers.proto) under its _proto folder.
+WELL_KNOWN="$(/usr/bin/python3 -c 'import grpc_tools, os; print(os.path.join(os.path.dirname(grpc_tools.__file__), "_proto"))')"
+/usr/bin/python3 -m grpc_tools.protoc -I proto -I "$WELL_KNOWN" \
+  --python_out="$OUT" --grpc_python_out="$OUT" "${PROTOS[@]}"
 
 # Fail here rather than at first import if the generated modules are unusable.
 PYTHONPATH="$ROOT/$OUT" /usr/bin/python3 -c \

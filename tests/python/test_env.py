@@ -104,6 +104,28 @@ def test_initial_qpos_option(address):
             env.reset(options={"bogus": 1})
 
 
+def test_reset_seed_defaults_to_the_scene_seed(client):
+    sid = client.create_session({"seed": 42}).session_id
+    try:
+        assert client.reset(sid).seed == 42
+        assert client.reset(sid, seed=0).seed == 0  # an explicit 0 is a seed, not "unset"
+        assert client.reset(sid, seed=123).seed == 123
+    finally:
+        client.close_session(sid)
+
+
+def test_env_reset_seeding_follows_gymnasium(address):
+    with CulinaryCutEnv(address, scene={"seed": 42}, control_mode="pd_joint_delta_pos") as env:
+        _, info = env.reset()
+        assert info["seed"] == 42  # first unseeded episode: the scene's seed
+        _, info = env.reset(seed=5)
+        assert info["seed"] == 5
+        first = [env.reset()[1]["seed"] for _ in range(3)]  # later ones: drawn from np_random
+        env.reset(seed=5)
+        assert [env.reset()[1]["seed"] for _ in range(3)] == first
+        assert len(set(first)) == 3
+
+
 @pytest.mark.parametrize("target_kind", ["canonical", "offset_and_rotated"])
 def test_ee_pose_reaches_target_within_1mm_1deg(address, target_kind):
     with CulinaryCutEnv(address, control_mode="pd_ee_pose") as env:
@@ -228,7 +250,7 @@ def test_joint_delta_moves_the_commanded_joint(client, session, joint, sign):
     dq = np.array(response.observation.agent.qpos) - q0
     assert sign * dq[joint] > 0.05, f"joint {joint} moved {dq[joint]:+.4f} rad for 5 x {sign * 0.05:+.2f} rad"
     others = np.abs(np.delete(dq, joint))
-    assert np.all(others < abs(dq[joint]) / 3), f"other joints moved too: dq = {dq}"
+    assert np.all(others < abs(dq[joint]) / 10), f"other joints moved too: dq = {dq}"
 
 
 @pytest.mark.parametrize("axis", range(6))
@@ -245,7 +267,7 @@ def test_ee_delta_moves_in_the_commanded_direction(client, session, axis, sign):
     moved, still = (dp, dr) if axis < 3 else (dr, dp)
     i = axis % 3
     assert sign * moved[i] > 0.02, f"axis {axis}: moved {moved} for 5 x {action}"
-    assert np.all(np.abs(np.delete(moved, i)) < abs(moved[i]) / 2), f"axis {axis}: off-axis motion {moved}"
+    assert np.all(np.abs(np.delete(moved, i)) < abs(moved[i]) / 5), f"axis {axis}: off-axis motion {moved}"
     if axis < 3:
         assert np.linalg.norm(still) < np.deg2rad(3), f"translation rotated the knife by {still} rad"
     else:

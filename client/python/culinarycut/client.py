@@ -84,7 +84,7 @@ class Client:
               initial_qpos: Sequence[float] | None = None) -> simulator_pb2.ResetResponse:
         request = simulator_pb2.ResetRequest(session_id=session_id)
         if seed is not None:
-            request.seed = int(seed)
+            request.seed.value = int(seed)  # UInt64Value wrapper: set means "use this seed"
         if initial_qpos is not None:
             request.initial_qpos.extend(_f64(initial_qpos).ravel().tolist())
         return self._call(self._stub.Reset, request)

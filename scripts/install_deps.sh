@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs every Debian package CulinaryCut needs (Debian 12 bookworm). Idempotent, non-interactive.
+# Runs apt as root, or through sudo when not root.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake pkg-config git
+  # wire API
+  libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
+  # engine
+  libeigen3-dev libbullet-dev liburdfdom-dev
+  # server
+  libzmq3-dev cppzmq-dev libspdlog-dev libfmt-dev libcli11-dev
+  # tests and benchmarks
+  catch2
+  # Python client (Debian's packages: there is no PyPI)
+  python3 python3-grpcio python3-grpc-tools python3-protobuf python3-numpy python3-zmq python3-pytest
+)
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+
+missing=()
+for package in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install_deps: all ${#PACKAGES[@]} packages already installed"
+  exit 0
+fi
+echo "install_deps: installing ${missing[*]}"
+$SUDO apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
