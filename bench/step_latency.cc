@@ -1,7 +1,8 @@
 // Robot-only step cost, measured in one run on one machine:
 //   1. engine only: culinarycut::Step on a State (no networking), steps per second;
 //   2. round trip: Step calls from the C++ client to an in-process server over loopback gRPC.
-// Usage: bench_step_latency [--steps N] [--json out.json]
+// Usage: bench_step_latency [--steps N] [--control-hz F] [--listen ADDRESS] [--json out.json]
+// Physics runs at 500 Hz; --control-hz 20 (default) means 25 substeps per Step, 500 means one.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -27,12 +28,16 @@ double Percentile(std::vector<double> samples, double fraction) {
 
 int main(int argc, char** argv) {
   int steps = 2000;
+  double control_hz = 20.0;
+  std::string listen = "127.0.0.1:0";
   std::string json_path;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--control-hz") && i + 1 < argc) control_hz = std::atof(argv[++i]);
+    else if (!std::strcmp(argv[i], "--listen") && i + 1 < argc) listen = argv[++i];
     else if (!std::strcmp(argv[i], "--json") && i + 1 < argc) json_path = argv[++i];
     else {
-      std::fprintf(stderr, "usage: %s [--steps N] [--json out.json]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--steps N] [--control-hz F] [--listen ADDRESS] [--json out.json]\n", argv[0]);
       return 2;
     }
   }
@@ -44,7 +49,15 @@ int main(int argc, char** argv) {
 
   // 1. Engine only.
   const auto robot = culinarycut::LoadRobotDescription(culinarycut::DefaultRobotUrdfPath(), culinarycut::kTcpFrame);
-  const auto model = culinarycut::CompileModel({}, robot);
+  culinarycut::SceneConfig config;
+  config.robot.control_frequency_hz = control_hz;
+  std::shared_ptr<const culinarycut::Model> model;
+  try {
+    model = culinarycut::CompileModel(config, robot);
+  } catch (const culinarycut::SceneError& error) {
+    std::fprintf(stderr, "bench_step_latency: %s\n", error.what());
+    return 2;
+  }
   culinarycut::State state;
   culinarycut::ResetState(*model, &state, 0, {});
   const culinarycut::Action action{culinarycut::ControlMode::kJointDeltaPosition, Eigen::VectorXd::Zero(7)};
@@ -58,11 +71,13 @@ int main(int argc, char** argv) {
 
   // 2. Round trip through gRPC on loopback.
   culinarycut::server::ServerOptions options;
-  options.listen_address = "127.0.0.1:0";
+  options.listen_address = listen;
   options.telemetry_endpoint = "";
   culinarycut::server::SimulationServer server(options);
   culinarycut::Client client(server.address());
-  auto session = client.CreateSession();
+  culinarycut::v1::SceneSpec scene;
+  scene.mutable_robot()->set_control_frequency_hz(control_hz);
+  auto session = client.CreateSession(scene);
   session->Reset(0);
   for (int i = 0; i < 100; ++i) session->Step("pd_joint_delta_pos", hold);  // warm-up
   std::vector<double> round_trip_ms, observe_ms;
@@ -91,7 +106,7 @@ int main(int argc, char** argv) {
   std::printf("  round trip / engine step   : %.2f\n", p50 / (1e3 / engine_rate));
   if (!json_path.empty()) {
     std::ofstream out(json_path);
-    out << "{\"steps\": " << steps << ", \"substeps\": " << model->substeps_per_control_step
+    out << "{\"steps\": " << steps << ", \"control_hz\": " << control_hz << ", \"substeps\": " << model->substeps_per_control_step
         << ", \"engine_joint_steps_per_s\": " << engine_rate << ", \"engine_ee_steps_per_s\": " << engine_ee_rate
         << ", \"cpp_round_trip_ms\": {\"p50\": " << p50 << ", \"p90\": " << p90 << ", \"p99\": " << p99 << "}, \"cpp_observe_round_trip_p50_ms\": " << observe_p50 << "}\n";
   }

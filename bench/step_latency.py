@@ -19,7 +19,9 @@ from culinarycut import Client  # noqa: E402
 from culinarycut.errors import CulinaryCutError  # noqa: E402
 from culinarycut.launch import ServerProcess, server_binary  # noqa: E402
 
-ROBOT_ONLY: dict = {}  # the default scene: the robot and its knife, no food
+def robot_only_scene(control_hz: float) -> dict:
+    """The default scene (robot and knife, no food) at a given control rate; physics stays at 500 Hz."""
+    return {"robot": {"control_frequency_hz": control_hz, "physics_frequency_hz": 500.0}}
 
 
 def cpu_model() -> str:
@@ -37,8 +39,8 @@ def machine_info() -> dict:
             "python": platform.python_version(), "grpcio": grpc.__version__, "numpy": np.__version__}
 
 
-def measure(client: Client, steps: int, warmup: int) -> dict:
-    sid = client.create_session(ROBOT_ONLY).session_id
+def measure(client: Client, steps: int, warmup: int, control_hz: float) -> dict:
+    sid = client.create_session(robot_only_scene(control_hz)).session_id
     try:
         client.reset(sid, seed=0)
         zeros = np.zeros(7)  # pd_joint_delta_pos: hold the current pose
@@ -57,7 +59,7 @@ def measure(client: Client, steps: int, warmup: int) -> dict:
         client.close_session(sid)
     ms = latency_ns * 1e-6
     return {
-        "steps": steps, "warmup": warmup,
+        "steps": steps, "warmup": warmup, "control_hz": control_hz,
         "p50_ms": float(np.percentile(ms, 50)), "p90_ms": float(np.percentile(ms, 90)),
         "p99_ms": float(np.percentile(ms, 99)), "mean_ms": float(ms.mean()), "max_ms": float(ms.max()),
         "steps_per_s": steps / total_s,
@@ -72,6 +74,8 @@ def main(argv=None) -> int:
     parser.add_argument("--server", default=None, help=f"server binary to start (default {server_binary()})")
     parser.add_argument("--steps", type=int, default=2000, help="measured Step round trips")
     parser.add_argument("--warmup", type=int, default=100, help="unmeasured Steps first")
+    parser.add_argument("--control-hz", type=float, default=20.0,
+                        help="control rate; physics runs at 500 Hz, so 20 Hz means 25 substeps per Step")
     parser.add_argument("--out", type=Path, help="write the results as JSON here")
     args = parser.parse_args(argv)
     if args.steps < 1 or args.warmup < 0:
@@ -86,7 +90,7 @@ def main(argv=None) -> int:
             address = server.address
         with Client(address) as client:
             info = client.server_info()
-            result = measure(client, args.steps, args.warmup)
+            result = measure(client, args.steps, args.warmup, args.control_hz)
     except (CulinaryCutError, OSError, RuntimeError, TimeoutError) as err:
         print(f"error: {err}", file=sys.stderr)
         return 1

@@ -13,7 +13,7 @@ int main(int argc, char** argv) {
   culinarycut::server::ServerOptions options;
   std::string log_level = "info";
   CLI::App app{"CulinaryCut simulation server: a Franka Panda with a knife, served over gRPC (culinarycut.v1)"};
-  app.add_option("--listen", options.listen_address, "gRPC listen address host:port (port 0 picks a free one)")
+  app.add_option("--listen", options.listen_address, "gRPC listen address: host:port (port 0 picks a free one) or unix:///path.sock")
       ->capture_default_str();
   app.add_option("--telemetry", options.telemetry_endpoint, "ZeroMQ PUB endpoint for telemetry; '' turns it off")
       ->capture_default_str();

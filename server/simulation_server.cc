@@ -38,7 +38,11 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
     throw std::runtime_error("cannot listen on " + options.listen_address +
                              " (port in use or address invalid); pick another with --listen, e.g. 127.0.0.1:0");
   }
-  address_ = options.listen_address.substr(0, options.listen_address.rfind(':')) + ":" + std::to_string(bound_port);
+  // unix:PATH sockets have no port; tcp addresses report the one actually bound (port 0 picks one).
+  const bool unix_socket = options.listen_address.rfind("unix:", 0) == 0;
+  address_ = unix_socket ? options.listen_address
+                         : options.listen_address.substr(0, options.listen_address.rfind(':')) + ":" +
+                               std::to_string(bound_port);
 }
 
 SimulationServer::~SimulationServer() { Shutdown(); }

@@ -5,6 +5,8 @@
 #include <limits>
 #include <thread>
 
+#include <unistd.h>
+
 #include "culinarycut/client.h"
 #include "server/simulation_server.h"
 
@@ -196,4 +198,15 @@ TEST_CASE("a session whose client vanished is reclaimed after the idle timeout",
   std::this_thread::sleep_for(std::chrono::milliseconds(900));  // timeout + reaper period, with margin
   CHECK(client.GetServerInfo().limits().active_sessions() == 0);
   CHECK(CodeOf([&] { session->Observe(); }) == grpc::StatusCode::NOT_FOUND);
+}
+
+TEST_CASE("the server also listens on a Unix domain socket", "[server]") {
+  server::ServerOptions options = TestOptions();
+  const std::string path = "/tmp/culinarycut-test-" + std::to_string(::getpid()) + ".sock";
+  options.listen_address = "unix://" + path;
+  server::SimulationServer server(options);
+  CHECK(server.address() == options.listen_address);
+  Client client(server.address());
+  auto session = client.CreateSession();
+  CHECK(session->Reset(0).qpos.size() == 7);
 }
