@@ -10,8 +10,9 @@ std::vector<double> ReadyPose() { return {0.0, -M_PI / 4, 0.0, -3 * M_PI / 4, 0.
 std::optional<std::string> ValidateSceneConfig(const SceneConfig& config) {
   std::ostringstream error;
   const RobotConfig& robot = config.robot;
-  if (!std::isfinite(robot.control_frequency_hz) || robot.control_frequency_hz <= 0 || robot.control_frequency_hz > 1000) {
-    error << "scene.robot.control_frequency_hz must be in (0, 1000] Hz, got " << robot.control_frequency_hz;
+  // At least 1 Hz keeps one Step to at most 20000 physics substeps (a bounded call).
+  if (!std::isfinite(robot.control_frequency_hz) || robot.control_frequency_hz < 1 || robot.control_frequency_hz > 1000) {
+    error << "scene.robot.control_frequency_hz must be in [1, 1000] Hz, got " << robot.control_frequency_hz;
     return error.str();
   }
   const double ratio = robot.physics_frequency_hz / robot.control_frequency_hz;

@@ -9,7 +9,7 @@
 namespace culinarycut {
 
 struct RobotConfig {
-  double control_frequency_hz = 20.0;
+  double control_frequency_hz = 20.0;     // [1, 1000] Hz
   double physics_frequency_hz = 500.0;     // an integer multiple of control_frequency_hz
   std::vector<double> initial_qpos_rad;    // empty: the knife-down ready pose
   double joint_stiffness_per_s = 20.0;     // PD position gain: commanded qdot = k (q_target - q)
