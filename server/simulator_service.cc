@@ -136,6 +136,8 @@ grpc::Status SimulatorService::Step(grpc::ServerContext*, const v1::StepRequest*
     info->set_ik_orientation_error(report.ik->orientation_error_rad);
   }
   info->set_step_wall_time_ms(report.wall_time_ms);
+  info->set_control_wall_time_ms(report.control_wall_time_ms);
+  info->set_physics_wall_time_ms(report.physics_wall_time_ms);
   PublishTelemetry(*session, observation);
   return grpc::Status::OK;
 }

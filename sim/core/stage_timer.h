@@ -14,15 +14,17 @@ struct StageTimers {
   std::array<std::uint64_t, static_cast<int>(Stage::kCount)> calls{};
 };
 
-// Adds the lifetime of this object to one stage of a StageTimers.
+// Adds the lifetime of this object to one stage of a StageTimers, and reports it in `elapsed_ms`.
 class ScopedStageTimer {
  public:
-  ScopedStageTimer(StageTimers* timers, Stage stage)
-      : timers_(timers), stage_(static_cast<int>(stage)), start_(std::chrono::steady_clock::now()) {}
+  ScopedStageTimer(StageTimers* timers, Stage stage, double* elapsed_ms)
+      : timers_(timers), stage_(static_cast<int>(stage)), elapsed_ms_(elapsed_ms),
+        start_(std::chrono::steady_clock::now()) {}
   ~ScopedStageTimer() {
     const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start_;
     timers_->total_seconds[stage_] += elapsed.count();
     timers_->calls[stage_] += 1;
+    *elapsed_ms_ = 1e3 * elapsed.count();
   }
   ScopedStageTimer(const ScopedStageTimer&) = delete;
   ScopedStageTimer& operator=(const ScopedStageTimer&) = delete;
@@ -30,6 +32,7 @@ class ScopedStageTimer {
  private:
   StageTimers* timers_;
   int stage_;
+  double* elapsed_ms_;
   std::chrono::steady_clock::time_point start_;
 };
 

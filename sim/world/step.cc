@@ -8,14 +8,14 @@ StepReport Step(const Model& model, State* state, const Action& action) {
   const auto start = std::chrono::steady_clock::now();
   StepReport report;
   {
-    ScopedStageTimer timer(&state->timers, Stage::kControl);
+    ScopedStageTimer timer(&state->timers, Stage::kControl, &report.control_wall_time_ms);
     JointTarget target = ComputeJointTarget(model, state->physics->JointPositions(), action);
     state->q_target_rad = target.q_target_rad;
     report.action_clipped = target.clipped;
     report.ik = target.ik;
   }
   {
-    ScopedStageTimer timer(&state->timers, Stage::kPhysics);
+    ScopedStageTimer timer(&state->timers, Stage::kPhysics, &report.physics_wall_time_ms);
     // The PD loop runs at the physics rate: a fresh velocity command every substep.
     for (int i = 0; i < model.substeps_per_control_step; ++i) {
       state->physics->SetJointVelocityCommand(

@@ -16,6 +16,8 @@ struct StepReport {
   bool truncated = false;         // max_episode_steps reached
   int substeps = 0;
   double wall_time_ms = 0.0;
+  double control_wall_time_ms = 0.0;   // action -> joint targets (IK included)
+  double physics_wall_time_ms = 0.0;   // the physics substeps
 };
 
 // Preconditions: state has been reset and ValidateAction(model, action) found nothing.

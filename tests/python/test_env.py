@@ -36,10 +36,12 @@ def pose_error(tcp_pose, target) -> tuple[float, float]:
 
 
 def fingerprint(response) -> bytes:
-    """Everything a StepResponse says about the simulation, bit for bit (wall time excluded)."""
+    """Everything a StepResponse says about the simulation, bit for bit (wall times excluded)."""
     copy = type(response)()
     copy.CopyFrom(response)
     copy.info.step_wall_time_ms = 0.0
+    copy.info.control_wall_time_ms = 0.0
+    copy.info.physics_wall_time_ms = 0.0
     return copy.SerializeToString(deterministic=True)
 
 

@@ -55,6 +55,8 @@ def step_info_to_dict(info: simulator_pb2.StepInfo) -> dict[str, Any]:
         "ik_position_error": float(info.ik_position_error),        # m
         "ik_orientation_error": float(info.ik_orientation_error),  # rad
         "step_wall_time_ms": float(info.step_wall_time_ms),
+        "control_wall_time_ms": float(info.control_wall_time_ms),  # action -> joint targets (IK)
+        "physics_wall_time_ms": float(info.physics_wall_time_ms),  # physics substeps
     }
 
 

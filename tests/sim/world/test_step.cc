@@ -94,3 +94,16 @@ TEST_CASE("a bad initial qpos at reset is refused with the joint named", "[step]
   CHECK_THROWS_WITH(ResetState(*model, &state, 0, {0, 0}), Catch::Contains("7 values"));
   CHECK_FALSE(state.has_been_reset());
 }
+
+TEST_CASE("a step reports the time of its stages and accumulates them in the state", "[step]") {
+  const auto model = testing::DefaultModel();
+  State state;
+  ResetState(*model, &state, 0, {});
+  const StepReport report =
+      Step(*model, &state, Action{ControlMode::kEndEffectorDeltaPose, Eigen::VectorXd::Zero(6)});
+  CHECK(report.control_wall_time_ms > 0);
+  CHECK(report.physics_wall_time_ms > 0);
+  CHECK(report.control_wall_time_ms + report.physics_wall_time_ms <= report.wall_time_ms);
+  CHECK(state.timers.calls[static_cast<int>(Stage::kPhysics)] == 1);
+  CHECK(state.timers.total_seconds[static_cast<int>(Stage::kPhysics)] * 1e3 == Approx(report.physics_wall_time_ms));
+}
