@@ -1,6 +1,7 @@
 #include "sim/robot/inverse_kinematics.h"
 
 #include <algorithm>
+#include <vector>
 
 #include "sim/core/pose.h"
 #include "sim/robot/kinematics.h"
@@ -13,6 +14,43 @@ Eigen::VectorXd ClampToJointLimits(const RobotDescription& robot, Eigen::VectorX
   }
   return q_rad;
 }
+
+namespace {
+
+// One damped-least-squares step. Joints at a limit that the step would push further are frozen
+// (their Jacobian column removed) and the step is solved again, so the free joints do the work
+// instead of the solver stalling against the limit.
+Eigen::VectorXd LimitAwareStep(const RobotDescription& robot, const Eigen::MatrixXd& jacobian,
+                               const Eigen::Matrix<double, 6, 1>& error, const Eigen::VectorXd& q,
+                               double lambda_squared, double margin_rad) {
+  const int dof = robot.dof();
+  std::vector<bool> frozen(dof, false);
+  Eigen::VectorXd step = Eigen::VectorXd::Zero(dof);
+  for (int pass = 0; pass <= dof; ++pass) {
+    Eigen::MatrixXd active = jacobian;
+    for (int i = 0; i < dof; ++i) {
+      if (frozen[i]) active.col(i).setZero();
+    }
+    step = active.transpose() *
+           (active * active.transpose() + lambda_squared * Eigen::Matrix<double, 6, 6>::Identity()).ldlt().solve(error);
+    bool changed = false;
+    for (int i = 0; i < dof; ++i) {
+      const bool at_lower = q[i] <= robot.limits[i].lower_rad + margin_rad + 1e-9 && step[i] < 0;
+      const bool at_upper = q[i] >= robot.limits[i].upper_rad - margin_rad - 1e-9 && step[i] > 0;
+      if (!frozen[i] && (at_lower || at_upper)) {
+        frozen[i] = true;
+        changed = true;
+      }
+    }
+    if (!changed) break;
+  }
+  for (int i = 0; i < dof; ++i) {
+    if (frozen[i]) step[i] = 0.0;
+  }
+  return step;
+}
+
+}  // namespace
 
 IkResult SolveInverseKinematics(const RobotDescription& robot, const Eigen::Isometry3d& tip_in_last_link,
                                 const Eigen::Isometry3d& target, const Eigen::VectorXd& q_seed_rad,
@@ -36,9 +74,9 @@ IkResult SolveInverseKinematics(const RobotDescription& robot, const Eigen::Isom
     if (result.converged || result.iterations == options.max_iterations) break;
 
     const Eigen::MatrixXd jacobian = weights.asDiagonal() * TipJacobian(robot, result.q_rad, tip_in_last_link);
-    const Eigen::Matrix<double, 6, 6> jjt = jacobian * jacobian.transpose();
-    Eigen::VectorXd step = jacobian.transpose() *
-                           (jjt + lambda_squared * Eigen::Matrix<double, 6, 6>::Identity()).ldlt().solve(weights.asDiagonal() * error);
+    const Eigen::Matrix<double, 6, 1> weighted_error = weights.asDiagonal() * error;
+    Eigen::VectorXd step =
+        LimitAwareStep(robot, jacobian, weighted_error, result.q_rad, lambda_squared, options.limit_margin_rad);
     const double largest = step.cwiseAbs().maxCoeff();
     if (largest > options.max_joint_step_rad) step *= options.max_joint_step_rad / largest;
     result.q_rad = ClampToJointLimits(robot, result.q_rad + step, options.limit_margin_rad);

@@ -32,4 +32,21 @@ Jacobian TipJacobian(const RobotDescription& robot, const Eigen::VectorXd& q_rad
   return jacobian;
 }
 
+Eigen::VectorXd GravityTorques(const RobotDescription& robot, const Eigen::VectorXd& q_rad,
+                               const Eigen::Vector3d& gravity_m_s2) {
+  std::vector<Eigen::Isometry3d> link_poses;
+  ForwardKinematics(robot, q_rad, &link_poses);
+  Eigen::VectorXd torques = Eigen::VectorXd::Zero(robot.dof());
+  for (int j = 0; j < robot.dof(); ++j) {
+    const Eigen::Vector3d com = link_poses[j] * robot.links[j].center_of_mass_m;
+    const Eigen::Vector3d weight = robot.links[j].mass_kg * gravity_m_s2;
+    // Link j's weight loads every joint from the base up to j.
+    for (int i = 0; i <= j; ++i) {
+      const Eigen::Vector3d axis = link_poses[i].linear() * robot.joint_axes[i];
+      torques[i] -= axis.cross(com - link_poses[i].translation()).dot(weight);
+    }
+  }
+  return torques;
+}
+
 }  // namespace culinarycut

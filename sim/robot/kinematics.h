@@ -24,4 +24,9 @@ Eigen::Isometry3d TipPose(const RobotDescription& robot, const Eigen::VectorXd& 
 Jacobian TipJacobian(const RobotDescription& robot, const Eigen::VectorXd& q_rad,
                      const Eigen::Isometry3d& tip_in_last_link);
 
+// Joint torques (N m) that hold the arm still against gravity (m/s^2, base frame):
+// tau = -sum_j J_com_j^T m_j g over the links the joint carries.
+Eigen::VectorXd GravityTorques(const RobotDescription& robot, const Eigen::VectorXd& q_rad,
+                               const Eigen::Vector3d& gravity_m_s2);
+
 }  // namespace culinarycut

@@ -38,7 +38,7 @@ std::optional<std::string> ValidateAction(const Model& model, const Action& acti
       return error.str();
     }
   }
-  if (action.mode == ControlMode::kEndEffectorPose && action.values.segment<4>(3).norm() < 1e-9) {
+  if (action.mode == ControlMode::kEndEffectorPose && action.values.segment<4>(3).cwiseAbs().maxCoeff() == 0.0) {
     return "action.values[3:7] (quaternion qw, qx, qy, qz) has zero norm; give a unit quaternion, e.g. [0, 1, 0, 0] "
            "for the knife pointing down";
   }
@@ -48,8 +48,12 @@ std::optional<std::string> ValidateAction(const Model& model, const Action& acti
 JointTarget ComputeJointTarget(const Model& model, const Eigen::VectorXd& q_measured_rad, const Action& action) {
   JointTarget target;
   Eigen::VectorXd values = action.values;
-  // A quaternion of any positive norm is valid: normalise it, so clipping never changes its direction.
-  if (action.mode == ControlMode::kEndEffectorPose) values.segment<4>(3).normalize();
+  // A quaternion of any positive norm is valid: normalise it (after scaling by its largest element,
+  // so 1e200 or 1e-200 entries neither overflow nor underflow), so clipping never changes its direction.
+  if (action.mode == ControlMode::kEndEffectorPose) {
+    values.segment<4>(3) /= values.segment<4>(3).cwiseAbs().maxCoeff();
+    values.segment<4>(3).normalize();
+  }
   target.clipped = ClipToBounds(&values, ActionBoundsFor(model, action.mode));
   switch (action.mode) {
     case ControlMode::kJointPosition:
@@ -79,11 +83,13 @@ JointTarget ComputeJointTarget(const Model& model, const Eigen::VectorXd& q_meas
 
 Eigen::VectorXd JointVelocityCommand(const Model& model, const Eigen::VectorXd& q_rad, const Eigen::VectorXd& q_target_rad) {
   Eigen::VectorXd command = model.config.robot.joint_stiffness_per_s * (q_target_rad - q_rad);
+  // Scale the whole command, not each joint alone: clamping joints separately bends the joint-space
+  // direction and the knife leaves its straight path.
+  double worst_ratio = 1.0;
   for (int i = 0; i < command.size(); ++i) {
-    const double limit = model.robot.limits[i].max_velocity_rad_s;
-    command[i] = std::clamp(command[i], -limit, limit);
+    worst_ratio = std::max(worst_ratio, std::abs(command[i]) / model.robot.limits[i].max_velocity_rad_s);
   }
-  return command;
+  return command / worst_ratio;
 }
 
 }  // namespace culinarycut

@@ -1,5 +1,6 @@
 // Turns an action into joint position targets, and targets into joint velocity commands for the
-// motors (the PD law in velocity-servo form: qdot = k (q_target - q), clamped to the joint speed limits).
+// motors (the PD law in velocity-servo form: qdot = k (q_target - q), scaled down as a whole to the
+// joint speed limits).
 #pragma once
 
 #include <optional>
@@ -30,7 +31,7 @@ struct JointTarget {
 // Joint targets for a validated action, given the measured joint positions.
 JointTarget ComputeJointTarget(const Model& model, const Eigen::VectorXd& q_measured_rad, const Action& action);
 
-// Motor velocity command (rad/s) towards the target, within each joint's speed limit.
+// Motor velocity command (rad/s) towards the target, within every joint's speed limit, its direction kept.
 Eigen::VectorXd JointVelocityCommand(const Model& model, const Eigen::VectorXd& q_rad, const Eigen::VectorXd& q_target_rad);
 
 }  // namespace culinarycut

@@ -79,6 +79,8 @@ void PhysicsWorld::BuildRobot(const RobotDescription& robot, const SceneLayout& 
     const Eigen::Isometry3d& origin = robot.joint_origins[i];
     link_com_offsets_m_.push_back(link.center_of_mass_m);
     max_effort_nm_.push_back(robot.limits[i].max_effort_nm);
+    lower_limits_rad_.push_back(robot.limits[i].lower_rad);
+    upper_limits_rad_.push_back(robot.limits[i].upper_rad);
     // rotParentToThis maps parent-frame vectors into this frame: the inverse of the joint origin rotation.
     robot_->setupRevolute(i, link.mass_kg, ToBullet(link.inertia_diagonal_kgm2), i - 1,
                           ToBullet(Eigen::Matrix3d(origin.linear().transpose())), ToBullet(robot.joint_axes[i]),
@@ -137,10 +139,7 @@ void PhysicsWorld::SetJointState(const Eigen::VectorXd& q_rad, const Eigen::Vect
     robot_->setJointPos(i, q_rad[i]);
     robot_->setJointVel(i, qdot_rad_s[i]);
   }
-  btAlignedObjectArray<btQuaternion> world_to_local;
-  btAlignedObjectArray<btVector3> local_origin;
-  robot_->forwardKinematics(world_to_local, local_origin);
-  robot_->updateCollisionObjectWorldTransforms(world_to_local, local_origin);
+  UpdateLinkTransforms();
 }
 
 Eigen::VectorXd PhysicsWorld::JointPositions() const {
@@ -159,7 +158,41 @@ void PhysicsWorld::SetJointVelocityCommand(const Eigen::VectorXd& qdot_rad_s) {
   for (size_t i = 0; i < motors_.size(); ++i) motors_[i]->setVelocityTarget(qdot_rad_s[i], 1.0);
 }
 
-void PhysicsWorld::StepOnce() { world_->stepSimulation(physics_timestep_s_, 0, physics_timestep_s_); }
+void PhysicsWorld::AddJointTorques(const Eigen::VectorXd& torques_nm) {
+  for (int i = 0; i < robot_->getNumLinks(); ++i) robot_->addJointTorque(i, torques_nm[i]);
+}
+
+void PhysicsWorld::StepOnce() {
+  world_->stepSimulation(physics_timestep_s_, 0, physics_timestep_s_);
+  EnforceJointLimits();
+}
+
+void PhysicsWorld::EnforceJointLimits() {
+  // Contact (the arm pushed into the table) can beat Bullet's soft limit rows by ~0.02 rad; the real
+  // arm has end stops, so project the joint back and drop its outward velocity.
+  bool projected = false;
+  for (int i = 0; i < robot_->getNumLinks(); ++i) {
+    const double q = robot_->getJointPos(i);
+    const double qdot = robot_->getJointVel(i);
+    if (q < lower_limits_rad_[i]) {
+      robot_->setJointPos(i, lower_limits_rad_[i]);
+      if (qdot < 0) robot_->setJointVel(i, 0.0);
+      projected = true;
+    } else if (q > upper_limits_rad_[i]) {
+      robot_->setJointPos(i, upper_limits_rad_[i]);
+      if (qdot > 0) robot_->setJointVel(i, 0.0);
+      projected = true;
+    }
+  }
+  if (projected) UpdateLinkTransforms();
+}
+
+void PhysicsWorld::UpdateLinkTransforms() {
+  btAlignedObjectArray<btQuaternion> world_to_local;
+  btAlignedObjectArray<btVector3> local_origin;
+  robot_->forwardKinematics(world_to_local, local_origin);
+  robot_->updateCollisionObjectWorldTransforms(world_to_local, local_origin);
+}
 
 Eigen::Isometry3d PhysicsWorld::LinkPose(int link_index) const {
   const btTransform& com_pose = robot_->getLink(link_index).m_collider->getWorldTransform();

@@ -40,7 +40,10 @@ class PhysicsWorld {
   // Joint motors drive each joint towards a velocity (rad/s) with at most its effort limit.
   void SetJointVelocityCommand(const Eigen::VectorXd& qdot_rad_s);
 
-  // Advances by one physics timestep.
+  // Adds joint torques (N m) for the next physics timestep only (Bullet clears them after a step).
+  void AddJointTorques(const Eigen::VectorXd& torques_nm);
+
+  // Advances by one physics timestep; joints never end it outside their limits.
   void StepOnce();
 
   // World pose of movable link i's frame (URDF link frame, not the COM frame) as Bullet sees it.
@@ -49,10 +52,16 @@ class PhysicsWorld {
  private:
   void AddStaticBox(const Eigen::Vector3d& size_m, const Eigen::Vector3d& center_m);
   void BuildRobot(const RobotDescription& robot, const SceneLayout& layout);
+  // Projects joints past a limit back onto it (an end stop).
+  void EnforceJointLimits();
+  // Recomputes link and collider poses after joint positions were set directly.
+  void UpdateLinkTransforms();
 
   double physics_timestep_s_;
   std::vector<Eigen::Vector3d> link_com_offsets_m_;  // COM in link frame, to recover link poses
   std::vector<double> max_effort_nm_;
+  std::vector<double> lower_limits_rad_;
+  std::vector<double> upper_limits_rad_;
   std::unique_ptr<btDefaultCollisionConfiguration> collision_configuration_;
   std::unique_ptr<btCollisionDispatcher> dispatcher_;
   std::unique_ptr<btBroadphaseInterface> broadphase_;

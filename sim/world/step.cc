@@ -2,6 +2,8 @@
 
 #include <chrono>
 
+#include "sim/robot/kinematics.h"
+
 namespace culinarycut {
 
 StepReport Step(const Model& model, State* state, const Action& action) {
@@ -16,10 +18,13 @@ StepReport Step(const Model& model, State* state, const Action& action) {
   }
   {
     ScopedStageTimer timer(&state->timers, Stage::kPhysics, &report.physics_wall_time_ms);
-    // The PD loop runs at the physics rate: a fresh velocity command every substep.
+    // The PD loop runs at the physics rate: a fresh velocity command every substep, on top of
+    // gravity compensation (as the Panda's own controller does), so the servo only handles motion.
+    const Eigen::Vector3d gravity_in_base = model.robot_base_in_world.linear().transpose() * model.layout.gravity_m_s2;
     for (int i = 0; i < model.substeps_per_control_step; ++i) {
-      state->physics->SetJointVelocityCommand(
-          JointVelocityCommand(model, state->physics->JointPositions(), state->q_target_rad));
+      const Eigen::VectorXd q = state->physics->JointPositions();
+      state->physics->AddJointTorques(GravityTorques(model.robot, q, gravity_in_base));
+      state->physics->SetJointVelocityCommand(JointVelocityCommand(model, q, state->q_target_rad));
       state->physics->StepOnce();
     }
   }

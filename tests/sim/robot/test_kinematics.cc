@@ -71,3 +71,29 @@ TEST_CASE("the knife TCP sits below the flange in the ready pose", "[kinematics]
   CHECK((flange.inverse() * tcp).translation().z() == Approx(0.13).margin(1e-9));
   CHECK(tcp.translation().z() < flange.translation().z());
 }
+
+TEST_CASE("gravity torques are the gradient of the arm's potential energy", "[kinematics]") {
+  std::mt19937_64 rng(13);
+  const RobotDescription& robot = testing::Panda();
+  const Eigen::Vector3d gravity(0, 0, -9.81);
+  // V(q) = -sum m_j g . com_j(q); holding torques are dV/dq.
+  auto potential = [&](const Eigen::VectorXd& q) {
+    std::vector<Eigen::Isometry3d> poses;
+    ForwardKinematics(robot, q, &poses);
+    double energy = 0.0;
+    for (int j = 0; j < robot.dof(); ++j) energy -= robot.links[j].mass_kg * gravity.dot(poses[j] * robot.links[j].center_of_mass_m);
+    return energy;
+  };
+  const double h = 1e-6;
+  for (int sample = 0; sample < 10; ++sample) {
+    const Eigen::VectorXd q = testing::RandomJointPositions(&rng, 0.01);
+    const Eigen::VectorXd torques = GravityTorques(robot, q, gravity);
+    for (int i = 0; i < robot.dof(); ++i) {
+      Eigen::VectorXd plus = q, minus = q;
+      plus[i] += h;
+      minus[i] -= h;
+      CHECK(torques[i] == Approx((potential(plus) - potential(minus)) / (2 * h)).margin(1e-5));
+    }
+    CHECK(torques[0] == Approx(0.0).margin(1e-9));  // joint 1's axis is vertical
+  }
+}

@@ -107,3 +107,28 @@ TEST_CASE("a step reports the time of its stages and accumulates them in the sta
   CHECK(state.timers.calls[static_cast<int>(Stage::kPhysics)] == 1);
   CHECK(state.timers.total_seconds[static_cast<int>(Stage::kPhysics)] * 1e3 == Approx(report.physics_wall_time_ms));
 }
+
+TEST_CASE("with gravity compensation a held pose does not sag", "[step]") {
+  const auto model = testing::DefaultModel();
+  State state;
+  ResetState(*model, &state, 0, {});
+  const Eigen::VectorXd q0 = model->initial_qpos_rad;
+  const Action hold{ControlMode::kJointPosition, q0};
+  for (int i = 0; i < 40; ++i) Step(*model, &state, hold);  // 2 s
+  // Without compensation the velocity servo sags ~1e-4 rad (test_physics_world.cc).
+  CHECK((Observe(*model, state).qpos_rad - q0).cwiseAbs().maxCoeff() < 1e-5);
+}
+
+TEST_CASE("joints stay inside their limits even when the arm is driven into the table", "[step]") {
+  const auto model = testing::DefaultModel();
+  State state;
+  ResetState(*model, &state, 0, {});
+  Eigen::VectorXd lower(7);
+  for (int i = 0; i < 7; ++i) lower[i] = model->robot.limits[i].lower_rad;
+  // All joints at their lower limits folds the arm onto the table: contact pushes back on the joints.
+  for (int step = 0; step < 100; ++step) {
+    Step(*model, &state, Action{ControlMode::kJointPosition, lower});
+    const Eigen::VectorXd q = Observe(*model, state).qpos_rad;
+    for (int i = 0; i < 7; ++i) REQUIRE(q[i] >= model->robot.limits[i].lower_rad);
+  }
+}
