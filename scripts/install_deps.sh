@@ -30,4 +30,5 @@ if [ ${#missing[@]} -eq 0 ]; then
 fi
 echo "install_deps: installing ${missing[*]}"
 $SUDO apt-get update -qq
-DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+# `env` carries the variable through sudo, whose env_reset would drop it.
+$SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"

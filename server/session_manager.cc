@@ -73,9 +73,11 @@ std::uint32_t SessionManager::size() const {
 }
 
 void SessionManager::ReaperLoop() {
-  // Check often enough that a session outlives its timeout by at most a quarter of it (and 1 s).
-  const auto period = std::chrono::duration_cast<std::chrono::milliseconds>(
-      std::min<std::chrono::duration<double>>(idle_timeout_ / 4, std::chrono::seconds(1)));
+  // Check often enough that a session outlives its timeout by at most a quarter of it (and 1 s),
+  // but no more than every 10 ms, so a tiny timeout does not spin a core.
+  const auto period = std::max(std::chrono::milliseconds(10),
+                               std::chrono::duration_cast<std::chrono::milliseconds>(
+                                   std::min<std::chrono::duration<double>>(idle_timeout_ / 4, std::chrono::seconds(1))));
   std::unique_lock<std::mutex> lock(mutex_);
   while (!stop_signal_.wait_for(lock, period, [this] { return stopping_; })) {
     lock.unlock();

@@ -10,11 +10,34 @@
 
 namespace culinarycut::server {
 
+namespace {
+
+// gRPC quietly wraps ports above 65535; refuse them instead.
+void CheckListenAddress(const std::string& address) {
+  if (address.rfind("unix:", 0) == 0) return;
+  const size_t colon = address.rfind(':');
+  const std::string port = colon == std::string::npos ? "" : address.substr(colon + 1);
+  const bool digits = !port.empty() && port.size() <= 5 && port.find_first_not_of("0123456789") == std::string::npos;
+  if (!digits || std::stoi(port) > 65535) {
+    throw std::runtime_error("--listen " + address + ": expected host:port with a port in 0..65535 (0 picks a free "
+                             "port), or unix:///path/to.sock");
+  }
+}
+
+}  // namespace
+
 SimulationServer::SimulationServer(const ServerOptions& options) {
   if (options.max_sessions == 0) throw std::runtime_error("--max-sessions must be at least 1");
   if (!(options.idle_timeout_s > 0)) throw std::runtime_error("--idle-timeout must be a positive number of seconds");
+  CheckListenAddress(options.listen_address);
   const std::string urdf = options.robot_urdf_path.empty() ? DefaultRobotUrdfPath() : options.robot_urdf_path;
   RobotDescription robot = LoadRobotDescription(urdf, kTcpFrame);
+  // Fail at start, not on the first CreateSession, if the robot cannot make a default scene.
+  try {
+    CompileModel(SceneConfig{}, robot);
+  } catch (const SceneError& error) {
+    throw std::runtime_error(urdf + ": " + error.what());
+  }
   if (!options.telemetry_endpoint.empty()) {
     try {
       telemetry_ = std::make_unique<TelemetryPublisher>(options.telemetry_endpoint);
@@ -40,6 +63,7 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   }
   // unix:PATH sockets have no port; tcp addresses report the one actually bound (port 0 picks one).
   const bool unix_socket = options.listen_address.rfind("unix:", 0) == 0;
+  server_->GetHealthCheckService()->SetServingStatus(v1::Simulator::service_full_name(), true);
   address_ = unix_socket ? options.listen_address
                          : options.listen_address.substr(0, options.listen_address.rfind(':')) + ":" +
                                std::to_string(bound_port);
@@ -51,7 +75,8 @@ std::string SimulationServer::telemetry_endpoint() const { return telemetry_ ? t
 
 void SimulationServer::Shutdown() {
   if (server_) {
-    server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(5));
+    // Calls in flight get 1 s to finish (the longest Step, 1 Hz control at 20 kHz physics, takes ~0.5 s).
+    server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));
     server_->Wait();
     server_.reset();
   }

@@ -27,7 +27,7 @@ class SimulationServer {
   std::string telemetry_endpoint() const;
   SessionManager& sessions() { return *sessions_; }
 
-  // Stops accepting calls, lets calls in flight finish (up to 5 s), then returns.
+  // Stops accepting calls, lets calls in flight finish (up to 1 s), then returns.
   void Shutdown();
 
  private:

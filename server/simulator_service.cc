@@ -79,6 +79,7 @@ grpc::Status SimulatorService::CreateSession(grpc::ServerContext*, const v1::Cre
                             " sessions; close one (CloseSession) or start the server with a larger --max-sessions");
   }
   response->set_session_id(session->id);
+  StampToWire(0, 0.0, response->mutable_stamp());
   DescribeSpaces(*model, response);
   *response->mutable_resolved_scene() = SceneToWire(model->config);
   spdlog::info("session {} created ({} sessions live)", session->id, sessions_->size());

@@ -26,22 +26,17 @@ v1::ArraySpec* AddArraySpec(v1::CreateSessionResponse* response, const std::stri
 grpc::Status SceneFromWire(const v1::SceneSpec& wire, SceneConfig* config) {
   if (wire.objects_size() > 0) return Unimplemented("scene.objects", "MPM food simulation");
   if (wire.cameras_size() > 0) return Unimplemented("scene.cameras", "camera rendering");
-  if (!wire.task().instruction().empty() || !wire.task().cut_style().empty() || !wire.task().cut_state().empty()) {
-    return Unimplemented("scene.task", "cutting tasks");
-  }
+  if (wire.has_task()) return Unimplemented("scene.task", "cutting tasks");
+  if (wire.scene() == "kitchen") return Unimplemented("scene.scene=\"kitchen\"", "the kitchen scene");
   const v1::Effects& effects = wire.effects();
   if (effects.mpm() || effects.plasticity() || effects.damage() || effects.friction() || effects.topology() ||
       effects.force_sensing() || effects.safety_limiter()) {
     return Unimplemented("scene.effects", "MPM cutting effects and the safety limiter");
   }
-  const std::string& quality = wire.quality();
-  if (!quality.empty() && quality != "draft" && quality != "standard" && quality != "fine") {
-    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                        "scene.quality must be \"draft\", \"standard\" or \"fine\", got \"" + quality + "\"");
-  }
 
   SceneConfig parsed;
   parsed.seed = wire.seed();
+  if (!wire.quality().empty()) parsed.quality = wire.quality();
   parsed.max_episode_steps = wire.max_episode_steps();
   if (!wire.scene().empty()) parsed.scene = wire.scene();
   const v1::RobotSpec& robot = wire.robot();
@@ -57,6 +52,7 @@ v1::SceneSpec SceneToWire(const SceneConfig& config) {
   v1::SceneSpec wire;
   wire.set_seed(config.seed);
   wire.set_scene(config.scene);
+  wire.set_quality(config.quality);
   wire.set_max_episode_steps(config.max_episode_steps);
   v1::RobotSpec* robot = wire.mutable_robot();
   robot->set_control_frequency_hz(config.robot.control_frequency_hz);

@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
 #include <sstream>
 
 namespace culinarycut {
@@ -50,8 +49,12 @@ std::shared_ptr<const Model> CompileModel(const SceneConfig& config, const Robot
   model->robot = robot;
   model->robot_base_in_world = Eigen::Isometry3d::Identity();
   model->robot_base_in_world.translation() = model->layout.robot_base_position_m;
-  model->tcp_in_last_link = robot.TipFrame(kTcpFrame);
-  model->flange_in_last_link = robot.TipFrame(kFlangeFrame);
+  try {
+    model->tcp_in_last_link = robot.TipFrame(kTcpFrame);
+    model->flange_in_last_link = robot.TipFrame(kFlangeFrame);
+  } catch (const std::out_of_range& error) {
+    throw SceneError(std::string("the robot description lacks a frame the engine needs: ") + error.what());
+  }
   model->control_timestep_s = 1.0 / config.robot.control_frequency_hz;
   model->substeps_per_control_step =
       static_cast<int>(std::lround(config.robot.physics_frequency_hz / config.robot.control_frequency_hz));

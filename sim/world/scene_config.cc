@@ -36,6 +36,9 @@ std::optional<std::string> ValidateSceneConfig(const SceneConfig& config) {
   if (config.scene != "table" && config.scene != "kitchen") {
     return "scene.scene must be \"table\" or \"kitchen\", got \"" + config.scene + "\"";
   }
+  if (config.quality != "draft" && config.quality != "standard" && config.quality != "fine") {
+    return "scene.quality must be \"draft\", \"standard\" or \"fine\", got \"" + config.quality + "\"";
+  }
   return std::nullopt;
 }
 

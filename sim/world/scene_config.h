@@ -12,13 +12,14 @@ struct RobotConfig {
   double control_frequency_hz = 20.0;     // [1, 1000] Hz
   double physics_frequency_hz = 500.0;     // an integer multiple of control_frequency_hz
   std::vector<double> initial_qpos_rad;    // empty: the knife-down ready pose
-  double joint_stiffness_per_s = 20.0;     // PD position gain: commanded qdot = k (q_target - q)
+  double joint_stiffness_per_s = 20.0;     // PD position gain (1/s): commanded qdot = k (q_target - q)
 };
 
 struct SceneConfig {
   std::uint64_t seed = 0;
   RobotConfig robot;
   std::string scene = "table";
+  std::string quality = "standard";        // MPM accuracy preset: draft, standard, fine (no effect without food)
   std::uint32_t max_episode_steps = 0;     // 0: never truncate
 };
 

@@ -1,6 +1,7 @@
 #include "sim/world/snapshot.h"
 
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <sstream>
 
@@ -40,7 +41,7 @@ class Reader {
   }
   Eigen::VectorXd GetVector(std::uint32_t expected_size) {
     const auto size = Get<std::uint32_t>();
-    if (size != expected_size) throw SnapshotError("snapshot is corrupt: a joint vector has the wrong length");
+    if (size != expected_size) throw SnapshotError("corrupt: a joint vector has the wrong length");
     Eigen::VectorXd v(size);
     Need(sizeof(double) * size);
     std::memcpy(v.data(), bytes_.data() + offset_, sizeof(double) * size);
@@ -58,11 +59,30 @@ class Reader {
 
  private:
   void Need(size_t n) const {
-    if (offset_ + n > bytes_.size()) throw SnapshotError("snapshot is truncated or corrupt");
+    if (offset_ + n > bytes_.size()) throw SnapshotError("snapshot is truncated");
   }
   const std::string& bytes_;
   size_t offset_ = 0;
 };
+
+// Refuses values no simulation could have produced, so a corrupted snapshot cannot poison a session.
+void CheckPlausible(const Model& model, double sim_time_s, const Eigen::VectorXd& q, const Eigen::VectorXd& qdot,
+                    const Eigen::VectorXd& q_target) {
+  // Contact can push a joint slightly past its limit; anything further is corruption.
+  constexpr double kLimitToleranceRad = 0.1;
+  if (!std::isfinite(sim_time_s) || sim_time_s < 0) throw SnapshotError("corrupt: bad sim time");
+  for (int i = 0; i < model.robot.dof(); ++i) {
+    const JointLimits& limits = model.robot.limits[i];
+    const bool q_ok = std::isfinite(q[i]) && q[i] >= limits.lower_rad - kLimitToleranceRad &&
+                      q[i] <= limits.upper_rad + kLimitToleranceRad;
+    const bool target_ok = std::isfinite(q_target[i]) && q_target[i] >= limits.lower_rad - kLimitToleranceRad &&
+                           q_target[i] <= limits.upper_rad + kLimitToleranceRad;
+    const bool qdot_ok = std::isfinite(qdot[i]) && std::abs(qdot[i]) <= 10 * limits.max_velocity_rad_s;
+    if (!q_ok || !target_ok || !qdot_ok) {
+      throw SnapshotError("corrupt: joint " + std::to_string(i) + " holds a non-finite or impossible value");
+    }
+  }
+}
 
 }  // namespace
 
@@ -85,9 +105,9 @@ std::string SaveSnapshot(const Model& model, const State& state) {
 
 void RestoreSnapshot(const Model& model, const std::string& bytes, State* state) {
   Reader reader(bytes);
-  if (reader.Get<std::array<char, 8>>() != kMagic) throw SnapshotError("snapshot: not a CulinaryCut snapshot (bad header)");
+  if (reader.Get<std::array<char, 8>>() != kMagic) throw SnapshotError("not a CulinaryCut snapshot (bad header)");
   if (reader.Get<std::uint64_t>() != model.fingerprint) {
-    throw SnapshotError("snapshot was taken in a session with a different scene; restore it into a session "
+    throw SnapshotError("taken in a session with a different scene, or corrupt; restore it into a session "
                         "created from the same SceneSpec");
   }
   // Decode everything before touching the state, so a bad snapshot changes nothing.
@@ -99,11 +119,12 @@ void RestoreSnapshot(const Model& model, const std::string& bytes, State* state)
   std::istringstream rng_text(reader.GetString());
   std::mt19937_64 rng;
   rng_text >> rng;
-  if (rng_text.fail()) throw SnapshotError("snapshot is corrupt: bad random-generator state");
+  if (rng_text.fail()) throw SnapshotError("corrupt: bad random-generator state");
   const Eigen::VectorXd q = reader.GetVector(dof);
   const Eigen::VectorXd qdot = reader.GetVector(dof);
   const Eigen::VectorXd q_target = reader.GetVector(dof);
-  if (!reader.AtEnd()) throw SnapshotError("snapshot is corrupt: trailing bytes");
+  if (!reader.AtEnd()) throw SnapshotError("corrupt: trailing bytes");
+  CheckPlausible(model, sim_time, q, qdot, q_target);
 
   // A fresh world: no contact or solver cache from this session's past survives the restore.
   auto physics = std::make_unique<PhysicsWorld>(model.robot, model.layout, model.physics_timestep_s);

@@ -19,7 +19,10 @@ def scene_to_proto(scene) -> scene_pb2.SceneSpec:
     if isinstance(scene, scene_pb2.SceneSpec):
         return scene
     if isinstance(scene, Mapping):
-        return json_format.ParseDict(dict(scene), scene_pb2.SceneSpec())
+        try:
+            return json_format.ParseDict(dict(scene), scene_pb2.SceneSpec())
+        except json_format.ParseError as err:
+            raise ValueError(f"scene: {err} (see proto/culinarycut/v1/scene.proto for the fields)") from None
     raise TypeError(f"scene must be a dict, SceneSpec or None, not {type(scene).__name__}")
 
 

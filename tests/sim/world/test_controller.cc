@@ -55,6 +55,12 @@ TEST_CASE("pd_ee_pose takes a quaternion of any norm as its direction, unclipped
   const JointTarget unit = ComputeJointTarget(*model, q, MakeAction(ControlMode::kEndEffectorPose, {0.5, 0, 0.2, 0, 1, 0.1, 0}));
   CHECK_FALSE(scaled.clipped);
   CHECK((scaled.q_target_rad - unit.q_target_rad).norm() < 1e-12);
+  // Entries whose squares overflow or underflow a double still mean the same direction.
+  for (double magnitude : {1e200, 1e-200}) {
+    const Action extreme = MakeAction(ControlMode::kEndEffectorPose, {0.5, 0, 0.2, 0, magnitude, 0.1 * magnitude, 0});
+    CHECK_FALSE(ValidateAction(*model, extreme).has_value());
+    CHECK((ComputeJointTarget(*model, q, extreme).q_target_rad - unit.q_target_rad).norm() < 1e-12);
+  }
 }
 
 TEST_CASE("pd_ee_delta_pose targets the TCP moved by the delta", "[controller]") {
@@ -68,9 +74,19 @@ TEST_CASE("pd_ee_delta_pose targets the TCP moved by the delta", "[controller]")
   CHECK((after - before - Eigen::Vector3d(0, 0, -0.05)).norm() < 1e-4);
 }
 
-TEST_CASE("the velocity command respects the joint speed limits", "[controller]") {
+TEST_CASE("the velocity command respects the joint speed limits and keeps its direction", "[controller]") {
   const auto model = testing::DefaultModel();
   const Eigen::VectorXd q = model->initial_qpos_rad;
-  const Eigen::VectorXd command = JointVelocityCommand(*model, q, q + Eigen::VectorXd::Constant(7, 2.0));
-  for (int i = 0; i < 7; ++i) CHECK(command[i] == Approx(model->robot.limits[i].max_velocity_rad_s));
+  const Eigen::VectorXd error = (Eigen::VectorXd(7) << 2.0, -1.0, 0.5, 2.0, 0.1, -3.0, 0.0).finished();
+  const Eigen::VectorXd command = JointVelocityCommand(*model, q, q + error);
+  double largest_ratio = 0.0;
+  for (int i = 0; i < 7; ++i) {
+    CHECK(std::abs(command[i]) <= model->robot.limits[i].max_velocity_rad_s + 1e-12);
+    largest_ratio = std::max(largest_ratio, std::abs(command[i]) / model->robot.limits[i].max_velocity_rad_s);
+  }
+  CHECK(largest_ratio == Approx(1.0));  // as fast as the most limited joint allows
+  CHECK(command.normalized().dot(error.normalized()) == Approx(1.0));  // parallel to the error
+  // Small errors are not scaled: the plain PD law.
+  const Eigen::VectorXd small = JointVelocityCommand(*model, q, q + Eigen::VectorXd::Constant(7, 1e-3));
+  CHECK((small - Eigen::VectorXd::Constant(7, 1e-3 * model->config.robot.joint_stiffness_per_s)).norm() < 1e-12);
 }

@@ -23,4 +23,5 @@ TEST_CASE("bad scene configs name the field at fault", "[scene]") {
              Catch::Contains("at least 500"));
   CHECK_THAT(error_for([](SceneConfig& c) { c.robot.joint_stiffness_per_s = -1; }), Catch::Contains("joint_stiffness"));
   CHECK_THAT(error_for([](SceneConfig& c) { c.scene = "garden"; }), Catch::Contains("scene.scene"));
+  CHECK_THAT(error_for([](SceneConfig& c) { c.quality = "ultra"; }), Catch::Contains("scene.quality"));
 }

@@ -1,5 +1,8 @@
 #include <catch2/catch.hpp>
 
+#include <cmath>
+#include <cstring>
+
 #include "sim/world/observation.h"
 #include "sim/world/snapshot.h"
 #include "sim/world/step.h"
@@ -52,6 +55,13 @@ TEST_CASE("corrupt or foreign snapshots are refused and change nothing", "[snaps
   SceneConfig other;
   other.robot.control_frequency_hz = 10.0;
   CHECK_THROWS_WITH(RestoreSnapshot(*testing::DefaultModel(other), good, &state), Catch::Contains("different scene"));
+  // A well-formed snapshot whose joint values were overwritten: NaN, and far outside the limits.
+  const size_t first_qpos = good.size() - 3 * (sizeof(std::uint32_t) + 7 * sizeof(double)) + sizeof(std::uint32_t);
+  for (double bad : {std::nan(""), 50.0}) {
+    std::string poisoned = good;
+    std::memcpy(&poisoned[first_qpos], &bad, sizeof(double));
+    CHECK_THROWS_WITH(RestoreSnapshot(*model, poisoned, &state), Catch::Contains("joint 0"));
+  }
   CHECK(Observe(*model, state).qpos_rad == before.qpos_rad);
   CHECK(state.frame_id == 2);
 }
