@@ -10,11 +10,11 @@
 namespace culinarycut {
 
 struct IkOptions {
-  int max_iterations = 300;
+  int max_iterations = 100;
   double damping = 0.02;                      // lambda in (J J^T + lambda^2 I)^-1, (m)
   double position_tolerance_m = 1e-5;
   double orientation_tolerance_rad = 1e-4;
-  double max_joint_step_rad = 0.05;            // per iteration, keeps large errors from overshooting
+  double max_joint_step_rad = 0.2;            // per iteration, keeps large errors from overshooting
   double limit_margin_rad = 1e-3;             // solutions stay this far inside the joint limits
   double orientation_weight_m = 0.2;          // metres of position error worth one radian of rotation
 };
