@@ -37,13 +37,7 @@ grpc::Status SimulatorService::FindSession(const std::string& session_id, std::s
 
 void SimulatorService::PublishTelemetry(const Session& session, const RobotObservation& observation) {
   if (!telemetry_) return;
-  v1::TelemetryFrame frame;
-  frame.set_session_id(session.id);
-  StampToWire(observation.frame_id, observation.sim_time_s, frame.mutable_stamp());
-  frame.mutable_qpos()->Assign(observation.qpos_rad.data(), observation.qpos_rad.data() + observation.qpos_rad.size());
-  frame.mutable_qvel()->Assign(observation.qvel_rad_s.data(), observation.qvel_rad_s.data() + observation.qvel_rad_s.size());
-  frame.mutable_tcp_pose()->Assign(observation.tcp_pose.data(), observation.tcp_pose.data() + 7);
-  telemetry_->Publish(frame);
+  telemetry_->Publish(TelemetryToWire(session.id, observation));
 }
 
 grpc::Status SimulatorService::GetServerInfo(grpc::ServerContext*, const v1::GetServerInfoRequest*, v1::ServerInfo* info) {

@@ -10,6 +10,12 @@ grpc::Status Unimplemented(const std::string& field, const std::string& what) {
                       field + ": " + what + " is not available in this server yet; GetServerInfo lists its capabilities");
 }
 
+// Copies an Eigen vector into a repeated double field.
+template <typename Vector>
+void AssignVector(const Vector& values, google::protobuf::RepeatedField<double>* field) {
+  field->Assign(values.data(), values.data() + values.size());
+}
+
 // An unbounded float64 vector observation (empty low/high on the wire means unbounded).
 v1::ArraySpec* AddArraySpec(v1::CreateSessionResponse* response, const std::string& name, int size,
                             const std::string& description) {
@@ -64,13 +70,22 @@ v1::SceneSpec SceneToWire(const SceneConfig& config) {
 
 void ObservationToWire(const RobotObservation& observation, v1::Observation* wire) {
   v1::AgentObservation* agent = wire->mutable_agent();
-  agent->mutable_qpos()->Assign(observation.qpos_rad.data(), observation.qpos_rad.data() + observation.qpos_rad.size());
-  agent->mutable_qvel()->Assign(observation.qvel_rad_s.data(), observation.qvel_rad_s.data() + observation.qvel_rad_s.size());
-  agent->mutable_qpos_target()->Assign(observation.qpos_target_rad.data(),
-                                       observation.qpos_target_rad.data() + observation.qpos_target_rad.size());
-  wire->mutable_tcp_pose()->Assign(observation.tcp_pose.data(), observation.tcp_pose.data() + 7);
-  wire->mutable_tcp_velocity()->Assign(observation.tcp_velocity.data(), observation.tcp_velocity.data() + 6);
-  wire->mutable_flange_pose()->Assign(observation.flange_pose.data(), observation.flange_pose.data() + 7);
+  AssignVector(observation.qpos_rad, agent->mutable_qpos());
+  AssignVector(observation.qvel_rad_s, agent->mutable_qvel());
+  AssignVector(observation.qpos_target_rad, agent->mutable_qpos_target());
+  AssignVector(observation.tcp_pose, wire->mutable_tcp_pose());
+  AssignVector(observation.tcp_velocity, wire->mutable_tcp_velocity());
+  AssignVector(observation.flange_pose, wire->mutable_flange_pose());
+}
+
+v1::TelemetryFrame TelemetryToWire(const std::string& session_id, const RobotObservation& observation) {
+  v1::TelemetryFrame frame;
+  frame.set_session_id(session_id);
+  StampToWire(observation.frame_id, observation.sim_time_s, frame.mutable_stamp());
+  AssignVector(observation.qpos_rad, frame.mutable_qpos());
+  AssignVector(observation.qvel_rad_s, frame.mutable_qvel());
+  AssignVector(observation.tcp_pose, frame.mutable_tcp_pose());
+  return frame;
 }
 
 void StampToWire(std::uint64_t frame_id, double sim_time_s, v1::FrameStamp* wire) {

@@ -21,6 +21,9 @@ v1::SceneSpec SceneToWire(const SceneConfig& config);
 void ObservationToWire(const RobotObservation& observation, v1::Observation* wire);
 void StampToWire(std::uint64_t frame_id, double sim_time_s, v1::FrameStamp* wire);
 
+// What the telemetry socket publishes for one session after a Reset, Step or Restore.
+v1::TelemetryFrame TelemetryToWire(const std::string& session_id, const RobotObservation& observation);
+
 // The spec handshake of CreateSession: every observation array and every control mode's action.
 void DescribeSpaces(const Model& model, v1::CreateSessionResponse* response);
 

@@ -73,12 +73,12 @@ void CheckPlausible(const Model& model, double sim_time_s, const Eigen::VectorXd
   if (!std::isfinite(sim_time_s) || sim_time_s < 0) throw SnapshotError("corrupt: bad sim time");
   for (int i = 0; i < model.robot.dof(); ++i) {
     const JointLimits& limits = model.robot.limits[i];
-    const bool q_ok = std::isfinite(q[i]) && q[i] >= limits.lower_rad - kLimitToleranceRad &&
-                      q[i] <= limits.upper_rad + kLimitToleranceRad;
-    const bool target_ok = std::isfinite(q_target[i]) && q_target[i] >= limits.lower_rad - kLimitToleranceRad &&
-                           q_target[i] <= limits.upper_rad + kLimitToleranceRad;
+    auto near_limits = [&limits](double angle_rad) {
+      return std::isfinite(angle_rad) && angle_rad >= limits.lower_rad - kLimitToleranceRad &&
+             angle_rad <= limits.upper_rad + kLimitToleranceRad;
+    };
     const bool qdot_ok = std::isfinite(qdot[i]) && std::abs(qdot[i]) <= 10 * limits.max_velocity_rad_s;
-    if (!q_ok || !target_ok || !qdot_ok) {
+    if (!near_limits(q[i]) || !near_limits(q_target[i]) || !qdot_ok) {
       throw SnapshotError("corrupt: joint " + std::to_string(i) + " holds a non-finite or impossible value");
     }
   }
