@@ -4,6 +4,7 @@ find_package(Protobuf REQUIRED)          # module mode: CONFIG mode is broken on
 find_package(gRPC CONFIG REQUIRED)
 find_package(Eigen3 CONFIG REQUIRED)
 find_package(urdfdom CONFIG REQUIRED)
+find_package(nlohmann_json 3 CONFIG REQUIRED)
 find_package(cppzmq CONFIG REQUIRED)
 find_package(spdlog CONFIG REQUIRED)
 find_package(CLI11 CONFIG REQUIRED)

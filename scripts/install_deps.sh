@@ -8,13 +8,15 @@ PACKAGES=(
   # wire API
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   # engine
-  libeigen3-dev libbullet-dev liburdfdom-dev
+  libeigen3-dev libbullet-dev liburdfdom-dev nlohmann-json3-dev
   # server
   libzmq3-dev cppzmq-dev libspdlog-dev libfmt-dev libcli11-dev
   # tests and benchmarks
   catch2
   # Python client (Debian's packages: there is no PyPI)
   python3 python3-grpcio python3-grpc-tools python3-protobuf python3-numpy python3-zmq python3-pytest
+  # plots in benchmarks, docs and examples
+  python3-matplotlib
 )
 
 SUDO=""

@@ -1,8 +1,9 @@
 #include "sim/world/model.h"
 
 #include <cmath>
-#include <cstdlib>
 #include <sstream>
+
+#include "sim/core/assets.h"
 
 namespace culinarycut {
 namespace {
@@ -19,9 +20,7 @@ void HashBytes(std::uint64_t* hash, const void* data, size_t size) {
 }  // namespace
 
 std::string DefaultRobotUrdfPath() {
-  const char* assets = std::getenv("CULINARYCUT_ASSETS_DIR");
-  const std::string root = (assets && *assets) ? assets : CULINARYCUT_ASSETS_DIR;
-  return root + "/panda/panda_knife.urdf";
+  return AssetsDir() + "/panda/panda_knife.urdf";
 }
 
 std::optional<std::string> CheckJointPositions(const RobotDescription& robot, const std::vector<double>& q_rad,
