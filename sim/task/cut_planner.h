@@ -26,6 +26,8 @@ struct PlannerOptions {
   double approach_clearance_m = 0.08;        // TCP height above the object's top for transfers
   SampledRange cut_start_height_m{0.01, 0.03};  // above the object's top where the slow cut begins
   SampledRange cut_speed_m_s{0.02, 0.05};    // knife speed through the food
+  // Saw cuts descend slower so that the knife makes several strokes (4-11 through 4.5 cm at 1-2 Hz).
+  SampledRange saw_cut_speed_m_s{0.008, 0.015};
   double cut_end_below_bottom_m = 0.001;     // edge ends this far below the object's bottom
   double max_linear_speed_m_s = 0.25;        // TCP speed limit for every segment
   double max_angular_speed_rad_s = 1.0;      // TCP angular speed limit for every segment
@@ -69,14 +71,18 @@ struct SampledCutParameters {
   double cut_speed_m_s = 0.0;
   double bias_angle_rad = 0.0;       // bias only
   double saw_frequency_hz = 0.0;     // saw only
-  double saw_amplitude_m = 0.0;      // saw only
-  double guillotine_start_pitch_rad = 0.0;  // guillotine only
+  // Saw only: drawn from the part of saw_amplitude_m whose peak TCP speed stays under the limit
+  // (a high frequency narrows it; no room at all is a TaskError).
+  double saw_amplitude_m = 0.0;
+  // Guillotine only, as used: raised above the sampled pitch when the object is too tall for the
+  // edge to clear its top with the tip inside the blade's reach.
+  double guillotine_start_pitch_rad = 0.0;
 };
 
 // A planned knife trajectory: a chain of segments, continuous in pose and velocity.
 class CutTrajectory {
  public:
-  struct Segment;  // defined in cut_planner.cc
+  struct Segment;  // defined in cut_planner.cc (a TrajectorySegment, sim/task/trajectory_segment.h)
   CutTrajectory();
   ~CutTrajectory();
   CutTrajectory(const CutTrajectory&);
@@ -87,7 +93,7 @@ class CutTrajectory {
   double duration_s() const;
   // TCP state at `time_s`; times before 0 or after the end hold the first or last pose at rest.
   TrajectorySample Sample(double time_s) const;
-  // Samples at 0, 1/rate, 2/rate, ... up to and including the end.
+  // Samples at 0, 1/rate, 2/rate, ... and at the end itself (so the last step may be shorter).
   std::vector<TrajectorySample> SampleUniform(double rate_hz) const;
   // The phase at `time_s` (the last segment's phase after the end).
   SegmentPhase PhaseAt(double time_s) const;
@@ -113,11 +119,21 @@ class CutTrajectory {
 };
 
 // Plans the cuts of `spec` on `target`, starting from the TCP pose `start_tcp_pose` at rest.
-// Normal: vertical descent; bias: descent with lateral drift along the long axis at the sampled
-// angle, blade tilted to match; guillotine: tip on the board beyond the object, the blade pivots
-// down about it; saw: back and forth along the blade while descending. Splits cut left to right,
-// retreating and transferring between cuts. Throws TaskError when the object is too large for the
-// blade, the plan leaves the workspace, or the inputs are invalid.
+// The blade stands across the long axis with its tip pointing away from the robot base (handle
+// nearer the robot); if the blade runs across that direction (within 3 deg), the sign nearer the
+// start TCP's x axis. Every move is rest-to-rest minimum-jerk at <= 90% of the speed limits; a cut
+// runs at the sampled speed between 0.1 s ramps, from the edge at cut_start_height above the top to
+// cut_end_below_bottom under the bottom. Normal: vertical descent. Bias: the blade rolled about its
+// edge by the sampled angle, the TCP descending along the tilted plane with a drift towards the
+// robot's right; the plane meets the long axis at the target. Guillotine: the tip rests beyond the
+// object's far side at the cut-end height, the knife starts pitched handle-up so the edge clears
+// the top by cut_start_height, then turns about the tip (TCP at the cut speed) until the edge lies
+// flat. Saw: back and forth along the blade at the sampled frequency, swelling and fading over one
+// stroke, while descending. Every cut retreats along the blade plane to approach_clearance above
+// the top; splits cut left to right, transferring between cuts. Draws come from a local
+// std::mt19937_64(seed) in a fixed order. Throws TaskError when the object is too wide or tall for
+// the blade (guillotine), the saw cannot stay under the speed limit, the plan leaves the workspace
+// (naming the phase and point), or the inputs are invalid.
 CutTrajectory PlanCutTrajectory(const ObjectBox& target, const CutSpec& spec,
                                 const Eigen::Isometry3d& start_tcp_pose,
                                 const PlannerOptions& options, std::uint64_t seed);
