@@ -105,7 +105,7 @@ TEST_CASE("snapshot then restore reproduces the same trajectory exactly, over th
   CHECK(rollout() == first);
 }
 
-TEST_CASE("four concurrent sessions stay independent; equal seeds and actions agree", "[server]") {
+TEST_CASE("four concurrent sessions stay independent and equal seeds and actions agree", "[server]") {
   server::SimulationServer server(TestOptions());
   Client client(server.address());
   std::vector<std::unique_ptr<Session>> sessions;

@@ -25,7 +25,7 @@ TEST_CASE("Bullet's link frames agree with the kinematic model", "[physics]") {
   }
 }
 
-TEST_CASE("the PD loop holds the arm against gravity; without it the arm sags", "[physics]") {
+TEST_CASE("the PD loop holds the arm against gravity and without it the arm sags", "[physics]") {
   const auto model = testing::DefaultModel();
   const Eigen::VectorXd q0 = model->initial_qpos_rad;
   PhysicsWorld held(model->robot, SceneLayout{}, 0.002);
