@@ -9,11 +9,13 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <random>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "sim/policy/scripted_oracle.h"
 #include "sim/world/model.h"
 #include "sim/world/state.h"
 
@@ -23,6 +25,7 @@ struct Session {
   std::string id;
   std::shared_ptr<const Model> model;
   State state;
+  std::optional<ScriptedOracle> oracle;  // set by Tasks.StartOracle, cleared by Reset
   std::mutex mutex;  // held for the whole of any call into this session
   std::chrono::steady_clock::time_point last_used;
 };

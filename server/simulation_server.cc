@@ -49,6 +49,7 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   sessions_ = std::make_unique<SessionManager>(options.max_sessions,
                                                std::chrono::duration<double>(options.idle_timeout_s));
   service_ = std::make_unique<SimulatorService>(std::move(robot), sessions_.get(), telemetry_.get());
+  task_service_ = std::make_unique<TaskService>(sessions_.get());
 
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
@@ -56,6 +57,7 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   int bound_port = 0;
   builder.AddListeningPort(options.listen_address, grpc::InsecureServerCredentials(), &bound_port);
   builder.RegisterService(service_.get());
+  builder.RegisterService(task_service_.get());
   server_ = builder.BuildAndStart();
   if (!server_ || bound_port == 0) {
     throw std::runtime_error("cannot listen on " + options.listen_address +
@@ -64,6 +66,7 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   // unix:PATH sockets have no port; tcp addresses report the one actually bound (port 0 picks one).
   const bool unix_socket = options.listen_address.rfind("unix:", 0) == 0;
   server_->GetHealthCheckService()->SetServingStatus(v1::Simulator::service_full_name(), true);
+  server_->GetHealthCheckService()->SetServingStatus(v1::Tasks::service_full_name(), true);
   address_ = unix_socket ? options.listen_address
                          : options.listen_address.substr(0, options.listen_address.rfind(':')) + ":" +
                                std::to_string(bound_port);

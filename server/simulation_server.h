@@ -10,6 +10,7 @@
 #include "server/server_options.h"
 #include "server/session_manager.h"
 #include "server/simulator_service.h"
+#include "server/task_service.h"
 #include "server/telemetry_publisher.h"
 
 namespace culinarycut::server {
@@ -34,6 +35,7 @@ class SimulationServer {
   std::unique_ptr<TelemetryPublisher> telemetry_;
   std::unique_ptr<SessionManager> sessions_;
   std::unique_ptr<SimulatorService> service_;
+  std::unique_ptr<TaskService> task_service_;
   std::unique_ptr<grpc::Server> server_;
   std::string address_;
 };

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "server/service_status.h"
 #include "server/version.h"
 #include "server/wire_conversion.h"
 #include "sim/world/controller.h"
@@ -9,31 +10,9 @@
 #include "sim/world/step.h"
 
 namespace culinarycut::server {
-namespace {
-
-grpc::Status InvalidArgument(const std::string& message) {
-  return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, message);
-}
-
-grpc::Status NotReset(const Session& session) {
-  return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
-                      "session " + session.id + " has not been reset; call Reset before Step, Observe or SaveSnapshot");
-}
-
-}  // namespace
 
 SimulatorService::SimulatorService(RobotDescription robot, SessionManager* sessions, TelemetryPublisher* telemetry)
     : robot_(std::move(robot)), sessions_(sessions), telemetry_(telemetry) {}
-
-grpc::Status SimulatorService::FindSession(const std::string& session_id, std::shared_ptr<Session>* session) {
-  if (session_id.empty()) return InvalidArgument("session_id is empty; pass the id CreateSession returned");
-  *session = sessions_->Find(session_id);
-  if (!*session) {
-    return grpc::Status(grpc::StatusCode::NOT_FOUND,
-                        "no session '" + session_id + "': it was closed, reclaimed after being idle, or never existed");
-  }
-  return grpc::Status::OK;
-}
 
 void SimulatorService::PublishTelemetry(const Session& session, const RobotObservation& observation) {
   if (!telemetry_) return;
@@ -44,7 +23,7 @@ grpc::Status SimulatorService::GetServerInfo(grpc::ServerContext*, const v1::Get
   info->set_version(kServerVersion);
   info->set_build_id(kBuildId);
   info->set_protocol("culinarycut.v1");
-  for (const char* capability : {"robot", "snapshot", "health", "reflection"}) info->add_capabilities(capability);
+  for (const char* capability : {"robot", "snapshot", "health", "reflection", "tasks", "oracle"}) info->add_capabilities(capability);
   if (telemetry_) {
     info->add_capabilities("telemetry");
     info->set_telemetry_endpoint(telemetry_->endpoint());
@@ -82,12 +61,13 @@ grpc::Status SimulatorService::CreateSession(grpc::ServerContext*, const v1::Cre
 
 grpc::Status SimulatorService::Reset(grpc::ServerContext*, const v1::ResetRequest* request, v1::ResetResponse* response) {
   std::shared_ptr<Session> session;
-  if (grpc::Status status = FindSession(request->session_id(), &session); !status.ok()) return status;
+  if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
   std::lock_guard<std::mutex> lock(session->mutex);
   const std::uint64_t seed = request->has_seed() ? request->seed().value() : session->model->config.seed;
   try {
     ResetState(*session->model, &session->state, seed,
                std::vector<double>(request->initial_qpos().begin(), request->initial_qpos().end()));
+    session->oracle.reset();  // a plan belongs to the episode it was made in
   } catch (const SceneError& error) {
     return InvalidArgument(error.what());
   }
@@ -101,7 +81,7 @@ grpc::Status SimulatorService::Reset(grpc::ServerContext*, const v1::ResetReques
 
 grpc::Status SimulatorService::Step(grpc::ServerContext*, const v1::StepRequest* request, v1::StepResponse* response) {
   std::shared_ptr<Session> session;
-  if (grpc::Status status = FindSession(request->session_id(), &session); !status.ok()) return status;
+  if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
   const std::string& mode_name = request->action().control_mode();
   const std::optional<ControlMode> mode =
       mode_name.empty() ? std::optional<ControlMode>(kDefaultControlMode) : ParseControlMode(mode_name);
@@ -139,7 +119,7 @@ grpc::Status SimulatorService::Step(grpc::ServerContext*, const v1::StepRequest*
 
 grpc::Status SimulatorService::Observe(grpc::ServerContext*, const v1::ObserveRequest* request, v1::ObserveResponse* response) {
   std::shared_ptr<Session> session;
-  if (grpc::Status status = FindSession(request->session_id(), &session); !status.ok()) return status;
+  if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
   std::lock_guard<std::mutex> lock(session->mutex);
   if (!session->state.has_been_reset()) return NotReset(*session);
   const RobotObservation observation = culinarycut::Observe(*session->model, session->state);
@@ -151,7 +131,7 @@ grpc::Status SimulatorService::Observe(grpc::ServerContext*, const v1::ObserveRe
 grpc::Status SimulatorService::CloseSession(grpc::ServerContext*, const v1::CloseSessionRequest* request,
                                             v1::CloseSessionResponse* response) {
   std::shared_ptr<Session> session;
-  if (grpc::Status status = FindSession(request->session_id(), &session); !status.ok()) return status;
+  if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
   {
     std::lock_guard<std::mutex> lock(session->mutex);  // let a call in flight finish first
     StampToWire(session->state.frame_id, session->state.sim_time_s, response->mutable_stamp());
@@ -164,7 +144,7 @@ grpc::Status SimulatorService::CloseSession(grpc::ServerContext*, const v1::Clos
 grpc::Status SimulatorService::SaveSnapshot(grpc::ServerContext*, const v1::SaveSnapshotRequest* request,
                                             v1::SaveSnapshotResponse* response) {
   std::shared_ptr<Session> session;
-  if (grpc::Status status = FindSession(request->session_id(), &session); !status.ok()) return status;
+  if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
   std::lock_guard<std::mutex> lock(session->mutex);
   if (!session->state.has_been_reset()) return NotReset(*session);
   response->set_snapshot(culinarycut::SaveSnapshot(*session->model, session->state));
@@ -175,7 +155,7 @@ grpc::Status SimulatorService::SaveSnapshot(grpc::ServerContext*, const v1::Save
 grpc::Status SimulatorService::RestoreSnapshot(grpc::ServerContext*, const v1::RestoreSnapshotRequest* request,
                                                v1::RestoreSnapshotResponse* response) {
   std::shared_ptr<Session> session;
-  if (grpc::Status status = FindSession(request->session_id(), &session); !status.ok()) return status;
+  if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
   std::lock_guard<std::mutex> lock(session->mutex);
   try {
     culinarycut::RestoreSnapshot(*session->model, request->snapshot(), &session->state);

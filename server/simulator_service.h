@@ -28,8 +28,6 @@ class SimulatorService final : public v1::Simulator::Service {
   grpc::Status RestoreSnapshot(grpc::ServerContext*, const v1::RestoreSnapshotRequest*, v1::RestoreSnapshotResponse*) override;
 
  private:
-  // NOT_FOUND when the id names no live session.
-  grpc::Status FindSession(const std::string& session_id, std::shared_ptr<Session>* session);
   void PublishTelemetry(const Session& session, const RobotObservation& observation);
 
   const RobotDescription robot_;

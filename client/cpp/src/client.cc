@@ -34,6 +34,7 @@ Observation FromWire(const v1::FrameStamp& stamp, const v1::Observation& wire) {
 Client::Client(const std::string& address, std::chrono::milliseconds call_timeout)
     : channel_(grpc::CreateChannel(address, grpc::InsecureChannelCredentials())),
       stub_(v1::Simulator::NewStub(channel_)),
+      tasks_stub_(v1::Tasks::NewStub(channel_)),
       call_timeout_(call_timeout) {}
 
 bool Client::WaitForServer(std::chrono::milliseconds timeout) {
@@ -58,6 +59,26 @@ std::unique_ptr<Session> Client::CreateSession(const v1::SceneSpec& scene) {
   v1::CreateSessionResponse response;
   Check("CreateSession", stub_->CreateSession(MakeContext().get(), request, &response));
   return std::make_unique<Session>(this, std::move(response));
+}
+
+v1::ParseInstructionResponse Client::ParseInstruction(const std::string& instruction) {
+  v1::ParseInstructionRequest request;
+  request.set_instruction(instruction);
+  v1::ParseInstructionResponse response;
+  Check("ParseInstruction", tasks_stub_->ParseInstruction(MakeContext().get(), request, &response));
+  return response;
+}
+
+v1::CutPlan Client::PlanCut(const v1::PlanCutRequest& request) {
+  v1::PlanCutResponse response;
+  Check("PlanCut", tasks_stub_->PlanCut(MakeContext().get(), request, &response));
+  return response.plan();
+}
+
+v1::TaskScore Client::ScoreCuts(const v1::ScoreCutsRequest& request) {
+  v1::ScoreCutsResponse response;
+  Check("ScoreCuts", tasks_stub_->ScoreCuts(MakeContext().get(), request, &response));
+  return response.score();
 }
 
 Session::Session(Client* client, v1::CreateSessionResponse handshake)
@@ -129,6 +150,21 @@ void Session::Close() {
   request.set_session_id(id());
   v1::CloseSessionResponse response;
   Check("CloseSession", client_->stub().CloseSession(client_->MakeContext().get(), request, &response));
+}
+
+v1::CutPlan Session::StartOracle(v1::StartOracleRequest request) {
+  request.set_session_id(id());
+  v1::StartOracleResponse response;
+  Check("StartOracle", client_->tasks_stub().StartOracle(client_->MakeContext().get(), request, &response));
+  return response.plan();
+}
+
+v1::OracleActionResponse Session::OracleAction() {
+  v1::OracleActionRequest request;
+  request.set_session_id(id());
+  v1::OracleActionResponse response;
+  Check("OracleAction", client_->tasks_stub().OracleAction(client_->MakeContext().get(), request, &response));
+  return response;
 }
 
 }  // namespace culinarycut

@@ -20,6 +20,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include "culinarycut/v1/simulator.grpc.pb.h"
+#include "culinarycut/v1/task.grpc.pb.h"
 
 namespace culinarycut {
 
@@ -59,14 +60,21 @@ class Client {
   v1::ServerInfo GetServerInfo();
   std::unique_ptr<Session> CreateSession(const v1::SceneSpec& scene = {});
 
-  // The raw stub, for calls this wrapper does not cover.
+  // The raw stubs, for calls this wrapper does not cover.
   v1::Simulator::Stub& stub() { return *stub_; }
+  v1::Tasks::Stub& tasks_stub() { return *tasks_stub_; }
+
+  // Stateless task calls (the Tasks service): instruction -> spec, planning, scoring.
+  v1::ParseInstructionResponse ParseInstruction(const std::string& instruction);
+  v1::CutPlan PlanCut(const v1::PlanCutRequest& request);
+  v1::TaskScore ScoreCuts(const v1::ScoreCutsRequest& request);
   // A context with this client's deadline.
   std::unique_ptr<grpc::ClientContext> MakeContext() const;
 
  private:
   std::shared_ptr<grpc::Channel> channel_;
   std::unique_ptr<v1::Simulator::Stub> stub_;
+  std::unique_ptr<v1::Tasks::Stub> tasks_stub_;
   std::chrono::milliseconds call_timeout_;
 };
 
@@ -87,6 +95,11 @@ class Session {
   std::string SaveSnapshot();
   Observation RestoreSnapshot(const std::string& snapshot);
   void Close();
+
+  // The server-side scripted oracle: plan once per episode (session_id is filled in), then one
+  // action per step:  while (!(a = OracleAction()).finished()) Step(a.action().control_mode(), ...).
+  v1::CutPlan StartOracle(v1::StartOracleRequest request);
+  v1::OracleActionResponse OracleAction();
 
  private:
   Client* client_;

@@ -1,0 +1,195 @@
+#include "server/task_service.h"
+
+#include <spdlog/spdlog.h>
+
+#include "server/service_status.h"
+#include "server/task_wire_conversion.h"
+#include "server/wire_conversion.h"
+#include "sim/core/pose.h"
+#include "sim/robot/kinematics.h"
+#include "sim/task/instruction_generator.h"
+#include "sim/task/instruction_parser.h"
+
+namespace culinarycut::server {
+namespace {
+
+constexpr std::uint32_t kDefaultInstructionCount = 5;
+constexpr std::uint32_t kMaxInstructionCount = 10000;
+constexpr double kDefaultPlanSampleRateHz = 20.0;
+constexpr double kMaxPlanSampleRateHz = 1000.0;
+
+// Runs `body`, turning the task module's input errors into INVALID_ARGUMENT.
+template <typename Body>
+grpc::Status RunTask(Body&& body) {
+  try {
+    body();
+  } catch (const task::TaskError& error) {
+    return InvalidArgument(error.what());
+  }
+  return grpc::Status::OK;
+}
+
+task::LanguageSplit LanguageSplitFromName(const std::string& name) {
+  if (name.empty() || name == "train") return task::LanguageSplit::kTrain;
+  if (name == "held_out") return task::LanguageSplit::kHeldOut;
+  if (name == "all") return task::LanguageSplit::kAll;
+  throw task::TaskError("split '" + name + "' is unknown; use train, held_out or all");
+}
+
+double SampleRateFromWire(double rate_hz, double default_hz) {
+  if (rate_hz == 0.0) return default_hz;
+  if (!(rate_hz > 0.0 && rate_hz <= kMaxPlanSampleRateHz)) {
+    throw task::TaskError("sample_rate_hz must be in (0, 1000] Hz (0 means the default)");
+  }
+  return rate_hz;
+}
+
+// The spec of a request that carries either an instruction or a spec.
+template <typename Request>
+task::CutSpec SpecFromRequest(const Request& request) {
+  switch (request.task_case()) {
+    case Request::kInstruction:
+      return task::ParseInstruction(request.instruction());
+    case Request::kSpec:
+      return CutSpecFromWire(request.spec());
+    default:
+      throw task::TaskError("give either instruction (text) or spec (a CutSpec)");
+  }
+}
+
+}  // namespace
+
+TaskService::TaskService(SessionManager* sessions) : sessions_(sessions) {}
+
+grpc::Status TaskService::ParseInstruction(grpc::ServerContext*,
+                                           const v1::ParseInstructionRequest* request,
+                                           v1::ParseInstructionResponse* response) {
+  return RunTask([&] {
+    const task::CutSpec spec = task::ParseInstruction(request->instruction());
+    CutSpecToWire(spec, response->mutable_spec());
+    response->set_description(task::Describe(spec));
+    for (double fraction : task::TargetFractionsFromLeft(spec)) response->add_target_fractions(fraction);
+  });
+}
+
+grpc::Status TaskService::GenerateInstructions(grpc::ServerContext*,
+                                               const v1::GenerateInstructionsRequest* request,
+                                               v1::GenerateInstructionsResponse* response) {
+  return RunTask([&] {
+    const std::uint32_t count = request->count() == 0 ? kDefaultInstructionCount : request->count();
+    if (count > kMaxInstructionCount) {
+      throw task::TaskError("count " + std::to_string(count) + " is above the limit of " +
+                            std::to_string(kMaxInstructionCount));
+    }
+    const task::CutSpec spec = CutSpecFromWire(request->spec());
+    for (const std::string& instruction :
+         task::GenerateInstructions(spec, request->seed(), static_cast<int>(count),
+                                    LanguageSplitFromName(request->split()))) {
+      response->add_instructions(instruction);
+    }
+  });
+}
+
+grpc::Status TaskService::PlanCut(grpc::ServerContext*, const v1::PlanCutRequest* request,
+                                  v1::PlanCutResponse* response) {
+  return RunTask([&] {
+    const task::CutSpec spec = SpecFromRequest(*request);
+    if (!request->has_target()) throw task::TaskError("target is missing: give the object's box");
+    const task::ObjectBox target = ObjectBoxFromWire(request->target(), "target");
+    if (!request->has_start_tcp_pose()) {
+      throw task::TaskError("start_tcp_pose is missing: give the knife's current TCP pose");
+    }
+    const Eigen::Isometry3d start = PoseFromWire(request->start_tcp_pose(), "start_tcp_pose");
+    const double rate_hz = SampleRateFromWire(request->sample_rate_hz(), kDefaultPlanSampleRateHz);
+    const task::CutTrajectory trajectory = task::PlanCutTrajectory(
+        target, spec, start, PlannerOptionsFromWire(request->options()), request->seed());
+    CutPlanToWire(trajectory, target.name, rate_hz, response->mutable_plan());
+  });
+}
+
+grpc::Status TaskService::ScoreCuts(grpc::ServerContext*, const v1::ScoreCutsRequest* request,
+                                    v1::ScoreCutsResponse* response) {
+  return RunTask([&] {
+    const task::CutSpec spec = CutSpecFromWire(request->spec());
+    if (!request->has_target()) throw task::TaskError("target is missing: give the object's box");
+    const task::ObjectBox target = ObjectBoxFromWire(request->target(), "target");
+    std::vector<task::MeasuredCut> cuts;
+    for (int i = 0; i < request->cuts_size(); ++i) {
+      cuts.push_back(MeasuredCutFromWire(request->cuts(i), "cuts[" + std::to_string(i) + "]"));
+    }
+    TaskScoreToWire(task::ScoreCuts(target, spec, cuts, TolerancesFromWire(request->tolerances())),
+                    response->mutable_score());
+  });
+}
+
+grpc::Status TaskService::StartOracle(grpc::ServerContext*, const v1::StartOracleRequest* request,
+                                      v1::StartOracleResponse* response) {
+  std::shared_ptr<Session> session;
+  if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) {
+    return status;
+  }
+  OracleConfig config;
+  if (grpc::Status status = RunTask([&] {
+        config.spec = SpecFromRequest(*request);
+        for (int i = 0; i < request->objects_size(); ++i) {
+          config.objects.push_back(
+              ObjectBoxFromWire(request->objects(i), "objects[" + std::to_string(i) + "]"));
+        }
+        config.target_name = request->target_name();
+        if (!request->control_mode().empty()) {
+          const std::optional<ControlMode> mode = ParseControlMode(request->control_mode());
+          if (!mode) {
+            throw task::TaskError("control_mode '" + request->control_mode() +
+                                  "' is unknown; use pd_joint_pos, pd_joint_delta_pos, pd_ee_pose "
+                                  "or pd_ee_delta_pose");
+          }
+          config.control_mode = *mode;
+        }
+        config.planner = PlannerOptionsFromWire(request->options());
+      });
+      !status.ok()) {
+    return status;
+  }
+
+  std::lock_guard<std::mutex> lock(session->mutex);
+  if (!session->state.has_been_reset()) return NotReset(*session);
+  config.seed = request->has_seed() ? request->seed().value() : session->state.seed;
+  const Model& model = *session->model;
+  return RunTask([&] {
+    const double rate_hz = SampleRateFromWire(request->sample_rate_hz(), 1.0 / model.control_timestep_s);
+    const Eigen::VectorXd qpos = session->state.physics->JointPositions();
+    session->oracle.emplace(model, config, qpos, session->state.sim_time_s);
+    const ScriptedOracle& oracle = *session->oracle;
+    CutPlanToWire(oracle.trajectory(), oracle.target().name, rate_hz, response->mutable_plan());
+    StampToWire(session->state.frame_id, session->state.sim_time_s, response->mutable_stamp());
+    spdlog::info("session {}: oracle planned {} on {} ({:.2f} s)", session->id,
+                 task::Describe(oracle.spec()), oracle.target().name,
+                 oracle.trajectory().duration_s());
+  });
+}
+
+grpc::Status TaskService::OracleAction(grpc::ServerContext*, const v1::OracleActionRequest* request,
+                                       v1::OracleActionResponse* response) {
+  std::shared_ptr<Session> session;
+  if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) {
+    return status;
+  }
+  std::lock_guard<std::mutex> lock(session->mutex);
+  if (!session->oracle) {
+    return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
+                        "session " + session->id +
+                            " has no oracle plan for this episode; call StartOracle after Reset");
+  }
+  const ScriptedOracle& oracle = *session->oracle;
+  const double now_s = session->state.sim_time_s;
+  const Eigen::VectorXd action =
+      oracle.Act(*session->model, session->state.physics->JointPositions(), now_s);
+  response->mutable_action()->set_control_mode(ControlModeName(oracle.control_mode()));
+  for (int i = 0; i < action.size(); ++i) response->mutable_action()->add_values(action[i]);
+  response->set_finished(oracle.Finished(now_s));
+  response->set_phase(task::Name(oracle.PhaseAt(now_s)));
+  StampToWire(session->state.frame_id, now_s, response->mutable_stamp());
+  return grpc::Status::OK;
+}
+
+}  // namespace culinarycut::server
