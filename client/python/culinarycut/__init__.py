@@ -1,6 +1,6 @@
 """Python client for the CulinaryCut simulation server (gRPC, package culinarycut.v1)."""
 try:
-    from culinarycut.v1 import scene_pb2, simulator_pb2, simulator_pb2_grpc  # noqa: F401
+    from culinarycut.v1 import scene_pb2, simulator_pb2, simulator_pb2_grpc, task_pb2, task_pb2_grpc  # noqa: F401
 except ImportError as _err:  # the stubs are build outputs, not checked in
     raise ImportError(
         "culinarycut: generated gRPC stubs (culinarycut.v1.*_pb2) are missing or broken; "
@@ -14,4 +14,4 @@ from culinarycut.env import CulinaryCutEnv
 from culinarycut.spaces import Box, Dict
 
 __version__ = "0.1.0"
-__all__ = ["Client", "CulinaryCutEnv", "Box", "Dict", "errors", "scene_pb2", "simulator_pb2"]
+__all__ = ["Client", "CulinaryCutEnv", "Box", "Dict", "errors", "scene_pb2", "simulator_pb2", "task_pb2"]

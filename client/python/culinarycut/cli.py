@@ -1,4 +1,5 @@
-"""Command line: `info` prints what a server offers; `demo` runs a scripted knife motion."""
+"""Command line: `info` prints what a server offers; `demo` runs a scripted knife motion; `parse`,
+`instructions` and `oracle` use the cutting tasks (see cli_tasks.py)."""
 from __future__ import annotations
 
 import argparse
@@ -7,6 +8,7 @@ import sys
 import numpy as np
 from google.protobuf import json_format
 
+from culinarycut import cli_tasks
 from culinarycut.client import Client
 from culinarycut.errors import CulinaryCutError, Unavailable
 from culinarycut.geometry import quat_angle, quat_rotate
@@ -117,12 +119,14 @@ def build_parser() -> argparse.ArgumentParser:
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("--address", default="127.0.0.1:50051", help="server host:port (default %(default)s)")
     common.add_argument("--timeout", type=float, default=30.0, help="per-RPC timeout in s (default %(default)s)")
-    sub = parser.add_subparsers(dest="command", required=True, metavar="{info,demo}")
+    sub = parser.add_subparsers(dest="command", required=True,
+                                metavar="{info,demo,parse,instructions,oracle}")
     info = sub.add_parser("info", parents=[common], help="print the server's version, capabilities and limits")
     info.add_argument("--json", action="store_true", help="print the ServerInfo message as JSON")
     info.set_defaults(func=cmd_info)
     demo = sub.add_parser("demo", parents=[common], help="move the knife through scripted waypoints")
     demo.set_defaults(func=cmd_demo)
+    cli_tasks.register(sub, common)
     return parser
 
 

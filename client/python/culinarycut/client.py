@@ -1,4 +1,4 @@
-"""Low-level synchronous client for the culinarycut.v1.Simulator gRPC service."""
+"""Low-level synchronous client for the culinarycut.v1.Simulator gRPC service (and Tasks, as .tasks)."""
 from __future__ import annotations
 
 from typing import Any, Mapping, Sequence
@@ -8,6 +8,7 @@ import numpy as np
 from google.protobuf import json_format
 
 from culinarycut.errors import from_rpc_error
+from culinarycut.tasks import TaskClient
 from culinarycut.v1 import scene_pb2, simulator_pb2, simulator_pb2_grpc
 
 
@@ -71,6 +72,7 @@ class Client:
         self.timeout_s = timeout_s
         self._channel = grpc.insecure_channel(address)
         self._stub = simulator_pb2_grpc.SimulatorStub(self._channel)
+        self.tasks = TaskClient(self._channel, timeout_s)  # the Tasks service on the same channel
 
     def _call(self, method, request):
         try:
