@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The main job: installs and builds, starts the server, and runs a client session that moves the
-# Panda's knife through a scripted motion and prints what it observed. Stops the server after.
+# The main job: installs and builds, starts the server, runs a client session that moves the
+# Panda's knife through a scripted motion, then the scripted oracle (the default policy) on a
+# cutting instruction. Stops the server after.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$root/scripts/install_deps.sh"
@@ -24,3 +25,6 @@ echo "run_main: server at $address (log: $log)"
 PYTHONPATH="$root/client/python${PYTHONPATH:+:$PYTHONPATH}" /usr/bin/python3 -m culinarycut demo --address "$address"
 echo "run_main: C++ client example:"
 "$root/build/client/cpp/drive_knife" "$address"
+echo "run_main: scripted oracle policy:"
+PYTHONPATH="$root/client/python${PYTHONPATH:+:$PYTHONPATH}" /usr/bin/python3 -m culinarycut oracle \
+  "cut the cucumber at 0.3 ratio from the left" --address "$address"

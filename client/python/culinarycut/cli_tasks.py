@@ -81,8 +81,8 @@ def cmd_oracle(args) -> int:
                     print(f"  t={response.stamp.sim_time:6.2f} s  {phase:<9} TCP [{tcp[0]:6.1f}, {tcp[1]:6.1f}, "
                           f"{tcp[2]:6.1f}] mm", flush=True)
             lowest = min(a[2] for a in actual) if actual else float("nan")
-            print(f"done: {steps} steps, lowest TCP z {lowest * 1e3:.1f} mm "
-                  f"(object bottom {DEFAULT_OBJECT['position'][2] * 1e3 - 20:.1f} mm)")
+            bottom = DEFAULT_OBJECT["position"][2] - DEFAULT_OBJECT["extent_m"][2] / 2
+            print(f"done: {steps} steps, lowest TCP z {lowest * 1e3:.1f} mm (object bottom {bottom * 1e3:.1f} mm)")
         finally:
             client.close_session(sid)
     return 0
