@@ -157,14 +157,14 @@ grpc::Status TaskService::StartOracle(grpc::ServerContext*, const v1::StartOracl
   const Model& model = *session->model;
   return RunTask([&] {
     const double rate_hz = SampleRateFromWire(request->sample_rate_hz(), 1.0 / model.control_timestep_s);
-    const Eigen::VectorXd qpos = session->state.physics->JointPositions();
-    session->oracle.emplace(model, config, qpos, session->state.sim_time_s);
-    const ScriptedOracle& oracle = *session->oracle;
+    ScriptedOracle oracle(model, config, session->state.physics->JointPositions(),
+                          session->state.sim_time_s);
     CutPlanToWire(oracle.trajectory(), oracle.target().name, rate_hz, response->mutable_plan());
     StampToWire(session->state.frame_id, session->state.sim_time_s, response->mutable_stamp());
     spdlog::info("session {}: oracle planned {} on {} ({:.2f} s)", session->id,
                  task::Describe(oracle.spec()), oracle.target().name,
                  oracle.trajectory().duration_s());
+    session->oracle.emplace(std::move(oracle));  // only a plan that was sent replaces the old one
   });
 }
 

@@ -139,6 +139,14 @@ task::MeasuredCut MeasuredCutFromWire(const v1::MeasuredCut& wire, const std::st
 
 void CutPlanToWire(const task::CutTrajectory& trajectory, const std::string& target_name,
                    double sample_rate_hz, v1::CutPlan* wire) {
+  // Keeps a long plan at a high rate within gRPC's default 4 MB message limit (~130 B a sample).
+  constexpr double kMaxSamples = 20000;
+  if (trajectory.duration_s() * sample_rate_hz + 1 > kMaxSamples) {
+    throw task::TaskError("the plan lasts " + std::to_string(trajectory.duration_s()) + " s; at " +
+                          std::to_string(sample_rate_hz) + " Hz that is more than " +
+                          std::to_string(static_cast<int>(kMaxSamples)) +
+                          " samples; lower sample_rate_hz");
+  }
   CutSpecToWire(trajectory.spec(), wire->mutable_spec());
   wire->set_target_name(target_name);
   wire->set_duration_s(trajectory.duration_s());

@@ -236,3 +236,19 @@ TEST_CASE("oracle calls out of order or on bad input get clear errors", "[server
   const grpc::Status status = client.tasks_stub().StartOracle(&context, unknown_session, &response);
   CHECK(status.error_code() == grpc::StatusCode::NOT_FOUND);
 }
+
+TEST_CASE("a plan too long for one message at the asked rate is refused with advice", "[server][tasks]") {
+  server::SimulationServer server(TestOptions());
+  Client client(server.address());
+  v1::PlanCutRequest request;
+  request.set_instruction("guillotine cut the apple into five equal pieces");
+  *request.mutable_target() = AppleBox();
+  for (double value : {0.45, 0.0, 0.30}) request.mutable_start_tcp_pose()->add_position(value);
+  for (double value : {0.0, 1.0, 0.0, 0.0}) request.mutable_start_tcp_pose()->add_quaternion(value);
+  request.set_sample_rate_hz(1000);
+  const auto [code, message] = ErrorOf([&] { client.PlanCut(request); });
+  CHECK(code == grpc::StatusCode::INVALID_ARGUMENT);
+  CHECK_THAT(message, Catch::Contains("lower sample_rate_hz"));
+  request.set_sample_rate_hz(100);
+  CHECK(client.PlanCut(request).cuts_size() == 4);
+}
