@@ -188,6 +188,17 @@ bool Allows(const InstructionTemplate& instruction_template, DirectionalReferenc
   return std::find(references.begin(), references.end(), reference) != references.end();
 }
 
+// Whether some template of `state` can word a spec of this style and reference (a template
+// without {verb} only describes Normal).
+bool Carries(const InstructionTemplates& templates, CutState state, CutStyle style,
+             DirectionalReference reference) {
+  const auto& candidates = templates.For(state);
+  return std::any_of(candidates.begin(), candidates.end(), [&](const auto& candidate) {
+    return Allows(candidate, reference) &&
+           (style == CutStyle::kNormal || candidate.HasPlaceholder("verb"));
+  });
+}
+
 }  // namespace
 
 std::vector<LabelledInstruction> EnumerateLabelledInstructions(
@@ -242,6 +253,24 @@ std::vector<std::string> GenerateInstructions(const CutSpec& spec, std::uint64_t
                                               LanguageSplit split,
                                               const InstructionTemplates& templates) {
   std::vector<std::string> pool = EnumerateInstructions(spec, split, templates);
+  if (pool.empty() && count > 0) {
+    // Most likely a reference the state's templates never carry (a split "from the left").
+    std::string accepted;
+    bool takes_reference = false;
+    for (int r = 0; r < kReferenceCount; ++r) {
+      const auto reference = static_cast<DirectionalReference>(r);
+      if (!Carries(templates, spec.state, spec.style, reference)) continue;
+      accepted += (accepted.empty() ? "" : ", ") + Name(reference);
+      takes_reference = takes_reference || reference == spec.reference;
+    }
+    if (!takes_reference) {
+      throw TaskError("cannot draw " + std::to_string(count) + " instructions for '" +
+                      Describe(spec) + "': no " + Name(spec.state) +
+                      " template takes the reference '" + Name(spec.reference) + "'; " +
+                      Name(spec.state) + " instructions use: " +
+                      (accepted.empty() ? std::string("no reference at all") : accepted));
+    }
+  }
   if (count < 0 || static_cast<size_t>(count) > pool.size()) {
     throw TaskError("cannot draw " + std::to_string(count) + " distinct instructions for '" +
                     Describe(spec) + "': the templates give " + std::to_string(pool.size()));
@@ -275,13 +304,7 @@ std::vector<CutSpec> EnumerateTaskSpecs(const InstructionTemplates& templates) {
         if (state == CutState::kSplit) pieces = {3, 4, 5};
         for (int r = 0; r < kReferenceCount; ++r) {
           const auto reference = static_cast<DirectionalReference>(r);
-          const auto& state_templates = templates.For(state);
-          const bool used = std::any_of(
-              state_templates.begin(), state_templates.end(), [&](const auto& candidate) {
-                return Allows(candidate, reference) &&
-                       (style == CutStyle::kNormal || candidate.HasPlaceholder("verb"));
-              });
-          if (!used) continue;
+          if (!Carries(templates, state, style, reference)) continue;
           for (double ratio : ratios) {
             for (int count : pieces) {
               CutSpec spec;

@@ -32,7 +32,8 @@ std::vector<std::string> EnumerateInstructions(
 
 // `count` distinct instructions drawn from EnumerateInstructions(spec, split) with a local
 // std::mt19937_64 seeded by `seed` (partial Fisher-Yates, explicit modulo: the same list on every
-// platform). Throws TaskError when fewer than `count` exist.
+// platform). Throws TaskError when fewer than `count` exist; when the state's templates never
+// carry the spec's reference (a split "from the left"), the message lists the ones they do.
 std::vector<std::string> GenerateInstructions(
     const CutSpec& spec, std::uint64_t seed, int count, LanguageSplit split,
     const InstructionTemplates& templates = DefaultInstructionTemplates());

@@ -1,5 +1,6 @@
 #include "sim/task/instruction_parser.h"
 
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -10,6 +11,9 @@ namespace culinarycut::task {
 namespace {
 
 constexpr double kSameValueTolerance = 1e-9;
+// The largest integer the parser reads ("into 7 pieces", "30%", the parts of "n/d"); longer digit
+// strings are refused rather than overflowed.
+constexpr long long kMaxNumber = 1000000;
 
 bool IsDigits(const std::string& word) {
   if (word.empty()) return false;
@@ -28,7 +32,7 @@ bool IsDecimal(const std::string& word) {
 enum class Tag {
   kOther, kA, kInto, kIn, kWay, kCuts, kHalf, kPercent, kPer, kCent, kRatio, kLeft, kRight,
   kTop, kAlong, kIts, kThe, kLength, kLong, kLengthwise, kBack, kAnd, kForth, kSideBefore,
-  kSideAfter
+  kToward, kSideAfter
 };
 
 // Everything a word can mean to the parser, looked up once per token.
@@ -117,8 +121,8 @@ const std::unordered_map<std::string, WordInfo>& Lexicon() {
         {"above", Tag::kTop},     {"along", Tag::kAlong},  {"its", Tag::kIts},
         {"the", Tag::kThe},       {"length", Tag::kLength}, {"long", Tag::kLong},
         {"lengthwise", Tag::kLengthwise}, {"back", Tag::kBack}, {"and", Tag::kAnd},
-        {"forth", Tag::kForth},   {"from", Tag::kSideBefore}, {"toward", Tag::kSideBefore},
-        {"towards", Tag::kSideBefore}, {"to", Tag::kSideBefore}, {"far", Tag::kSideBefore},
+        {"forth", Tag::kForth},   {"from", Tag::kSideBefore}, {"toward", Tag::kToward},
+        {"towards", Tag::kToward}, {"to", Tag::kSideBefore}, {"far", Tag::kSideBefore},
         {"on", Tag::kSideBefore}, {"side", Tag::kSideAfter}, {"end", Tag::kSideAfter},
         {"hand", Tag::kSideAfter}, {"edge", Tag::kSideAfter}, {"tip", Tag::kSideAfter}};
     for (const auto& [word, tag] : tags) words[word].tag = tag;
@@ -205,6 +209,7 @@ struct Reading {
   std::string middle_word;
   bool ratio_word = false;
   bool split_word = false;
+  bool toward_side = false;  // "toward the right end", read as measured from the left
 };
 
 class Parser {
@@ -254,12 +259,25 @@ class Parser {
     return TagAt(at) == Tag::kPer && TagAt(at + 1) == Tag::kCent ? 2 : 0;
   }
 
+  // A digit string as a number; fails when it exceeds kMaxNumber (`phrase` names it, e.g. the
+  // whole "n/d").
+  long long Number(const std::string& digits, const std::string& phrase = "") const {
+    errno = 0;
+    char* end = nullptr;
+    const long long value = std::strtoll(digits.c_str(), &end, 10);
+    if (errno == ERANGE || end != digits.c_str() + digits.size() || value > kMaxNumber) {
+      Fail("the number '" + (phrase.empty() ? digits : phrase) + "' is too large; a ratio lies " +
+           "between 0.1 and 0.9 (e.g. 0.3, 30%, 1/3) and a split makes 3, 4 or 5 pieces");
+    }
+    return value;
+  }
+
   // An integer in digits or words ("7", "three", "twenty five") at `at`; 0 tokens if none.
   int ReadInteger(size_t at, int* value) const {
     if (at >= tokens_.size()) return 0;
     const std::string& word = tokens_[at].text;
-    if (IsDigits(word) && word.size() <= 6) {
-      *value = std::atoi(word.c_str());
+    if (IsDigits(word)) {
+      *value = static_cast<int>(Number(word));
       return 1;
     }
     const WordInfo& info = Info(at);
@@ -285,9 +303,12 @@ class Parser {
         continue;
       }
       if (const size_t slash = word.find('/'); slash != std::string::npos) {
-        const int numerator = std::atoi(word.substr(0, slash).c_str());
-        const int denominator = std::atoi(word.substr(slash + 1).c_str());
-        if (denominator > 0) AddRatio(static_cast<double>(numerator) / denominator, i, i + 1);
+        const long long numerator = Number(word.substr(0, slash), word);
+        const long long denominator = Number(word.substr(slash + 1), word);
+        if (denominator == 0) {
+          Fail("the fraction '" + word + "' divides by zero; write a ratio e.g. as 1/3 or 0.3");
+        }
+        AddRatio(static_cast<double>(numerator) / static_cast<double>(denominator), i, i + 1);
         continue;
       }
       const bool article = TagAt(i) == Tag::kA;
@@ -335,9 +356,11 @@ class Parser {
         Consume(i, next + 1);
       } else if (after_into) {
         AddPieces(number, i, i + length);
-      } else if (IsDigits(tokens_[i].text)) {
-        Fail("the number '" + tokens_[i].text + "' is neither a ratio (e.g. 0.3 ratio, 30%) nor "
-             "a piece count (e.g. into 3 pieces)");
+      } else if (!(number == 1 && Info(i + length).food)) {  // "cut one apple" is fine
+        // A number that is no quantity, fraction, percentage or piece count: "cut the cucumber
+        // three times" must not quietly become a single cut.
+        Fail("the number '" + Join(tokens_, i, i + length) + "' is neither a ratio (e.g. 0.3 "
+             "ratio, 30%) nor a piece count (e.g. into 3 pieces)");
       }
       i += length - 1;  // a two-word number ("twenty five") is read once
     }
@@ -350,7 +373,14 @@ class Parser {
     if (TagAt(at) != Tag::kRight) return false;
     const Tag before = at > 0 ? TagAt(at - 1) : Tag::kOther;
     return before == Tag::kThe || before == Tag::kIts || before == Tag::kSideBefore ||
-           TagAt(at + 1) == Tag::kSideAfter;
+           before == Tag::kToward || TagAt(at + 1) == Tag::kSideAfter;
+  }
+
+  // "toward(s) [the|its] <side>": counted from the other end, moving toward this one.
+  bool AfterToward(size_t at) const {
+    if (at > 0 && TagAt(at - 1) == Tag::kToward) return true;
+    return at > 1 && (TagAt(at - 1) == Tag::kThe || TagAt(at - 1) == Tag::kIts) &&
+           TagAt(at - 2) == Tag::kToward;
   }
 
   void ReadKeywords() {
@@ -369,9 +399,14 @@ class Parser {
       } else if (info.split_word) {
         reading_.split_word = true;
       } else if (IsSide(i)) {
+        // "toward the right end" counts from the left (the paper's "at the third boundary toward
+        // the right end"), so it sets the opposite reference.
+        const bool toward = AfterToward(i);
+        const bool left = (tag == Tag::kLeft) != toward;
         reading_.references.emplace_back(
-            tag == Tag::kLeft ? DirectionalReference::kLeft : DirectionalReference::kRight,
-            tokens_[i].text);
+            left ? DirectionalReference::kLeft : DirectionalReference::kRight,
+            toward ? "toward the " + tokens_[i].text : tokens_[i].text);
+        reading_.toward_side = reading_.toward_side || toward;
       } else if (tag == Tag::kTop) {
         reading_.references.emplace_back(DirectionalReference::kTop, tokens_[i].text);
       } else if (tag == Tag::kLengthwise ||
@@ -391,7 +426,11 @@ class Parser {
       right = right || reference == DirectionalReference::kRight;
     }
     if (left && right) {
-      Fail("it names both the left and the right; say which end the position is measured from");
+      Fail(std::string("it names both the left and the right") +
+           (reading_.toward_side ? " ('toward the right end' counts from the left, 'toward the "
+                                   "left end' from the right)"
+                                 : "") +
+           "; say which end the position is measured from");
     }
     // Left or right moves a ratio cut, so it outranks "from the top" and "along its length".
     if (left) return DirectionalReference::kLeft;

@@ -61,10 +61,16 @@ TEST_CASE("the paper's sample phrasings are generated", "[task][language]") {
   CHECK(Contains(EnumerateInstructions(ratio, LanguageSplit::kTrain),
                  "cut the banana at 0.5 ratio from the right side"));
 
-  CutSpec bias = Spec(CutStyle::kBias, CutState::kRatio, "apple", DirectionalReference::kRight);
+  // "toward the right end" counts from the left end, moving toward the right.
+  CutSpec bias = Spec(CutStyle::kBias, CutState::kRatio, "apple", DirectionalReference::kLeft);
   bias.ratio = 0.4;
   CHECK(Contains(EnumerateInstructions(bias, LanguageSplit::kTrain),
                  "Bias cut the apple at 0.4 ratio toward the right end"));
+  bias.reference = DirectionalReference::kRight;
+  CHECK_FALSE(Contains(EnumerateInstructions(bias, LanguageSplit::kAll),
+                       "Bias cut the apple at 0.4 ratio toward the right end"));
+  CHECK(Contains(EnumerateInstructions(bias, LanguageSplit::kTrain),
+                 "Bias cut the apple at 0.4 ratio toward the left end"));
 
   CutSpec saw =
       Spec(CutStyle::kSaw, CutState::kRatio, "cucumber", DirectionalReference::kAlongLength);
@@ -175,6 +181,21 @@ TEST_CASE("generation is deterministic for a seed and varies across seeds", "[ta
   }
   CHECK_THROWS_WITH(GenerateInstructions(spec, 7, 1000000, LanguageSplit::kAll),
                     Catch::Contains("cannot draw 1000000 distinct instructions"));
+}
+
+TEST_CASE("a reference the state's templates never carry is named with the ones they do",
+          "[task][language]") {
+  CutSpec split = Spec(CutStyle::kNormal, CutState::kSplit, "cucumber",
+                       DirectionalReference::kLeft);
+  CHECK(EnumerateInstructions(split, LanguageSplit::kAll).empty());
+  CHECK_THROWS_WITH(GenerateInstructions(split, 7, 5, LanguageSplit::kTrain),
+                    Catch::Contains("no split template takes the reference 'left'; split "
+                                    "instructions use: none, top, along_length"));
+  CutSpec ratio = Spec(CutStyle::kSaw, CutState::kRatio, "cucumber", DirectionalReference::kTop);
+  ratio.ratio = 0.3;
+  CHECK_THROWS_WITH(GenerateInstructions(ratio, 7, 1, LanguageSplit::kAll),
+                    Catch::Contains("no ratio template takes the reference 'top'; ratio "
+                                    "instructions use: none, left, right, along_length"));
 }
 
 TEST_CASE("template files are validated with the path and the place named", "[task][language]") {

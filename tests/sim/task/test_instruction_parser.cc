@@ -1,6 +1,7 @@
 #include "sim/task/instruction_parser.h"
 
 #include <chrono>
+#include <vector>
 
 #include <catch2/catch.hpp>
 
@@ -81,8 +82,12 @@ TEST_CASE("the paper's sample instructions parse to their specs", "[task][langua
         Spec(CutStyle::kNormal, CutState::kRatio, "banana", R::kRight, 0.3));
   CHECK(ParseInstruction("Normal Cut the apple at the midpoint along its length.") ==
         Spec(CutStyle::kNormal, CutState::kMiddle, "apple", R::kAlongLength));
+  // "toward the right end" counts from the left end, moving right: 0.4 from the left.
   CHECK(ParseInstruction("Bias cut the apple at 0.4 ratio toward the right end.") ==
-        Spec(CutStyle::kBias, CutState::kRatio, "apple", R::kRight, 0.4));
+        Spec(CutStyle::kBias, CutState::kRatio, "apple", R::kLeft, 0.4));
+  CHECK(TargetFractionsFromLeft(
+            ParseInstruction("Bias cut the apple at 0.4 ratio toward the right end.")) ==
+        std::vector<double>{0.4});
   CHECK(ParseInstruction("Bias cut the melon at the midpoint from the left side.") ==
         Spec(CutStyle::kBias, CutState::kMiddle, "melon", R::kLeft));
   CHECK(ParseInstruction("Guillotine cut the orange at 0.5 ratio from the left side.") ==
@@ -126,6 +131,12 @@ TEST_CASE("free text outside the templates parses where it is clear", "[task][la
   CHECK(ParseInstruction("cut the banana at twenty-five percent from the left") ==
         Spec(CutStyle::kNormal, CutState::kRatio, "banana", R::kLeft, 0.25));
   CHECK(ParseInstruction("chop the apple into a 3-way split").split_pieces == 3);
+  CHECK(ParseInstruction("cut the cucumber at 0.3 ratio towards the left side") ==
+        Spec(CutStyle::kNormal, CutState::kRatio, "cucumber", R::kRight, 0.3));
+  CHECK(ParseInstruction("cut the cucumber 30% from the left, toward the right end") ==
+        Spec(CutStyle::kNormal, CutState::kRatio, "cucumber", R::kLeft, 0.3));
+  CHECK(ParseInstruction("cut one apple into 3 pieces") ==
+        Spec(CutStyle::kNormal, CutState::kSplit, "apple", R::kNone, 0.5, 3));
   CHECK(ParseInstruction("saw the cucumber back and forth at two thirds").ratio ==
         Approx(2.0 / 3.0));
 }
@@ -155,8 +166,11 @@ TEST_CASE("text that cannot be parsed says what is missing or ambiguous", "[task
                     Catch::Contains("asks for 7 pieces"));
   CHECK_THROWS_WITH(ParseInstruction("bias saw the banana"),
                     Catch::Contains("two cut styles, bias and saw"));
-  CHECK_THROWS_WITH(ParseInstruction("cut the banana at 30% from the left toward the right end"),
-                    Catch::Contains("both the left and the right"));
+  CHECK_THROWS_WITH(ParseInstruction("cut the banana at 30% from the left and from the right"),
+                    Catch::Contains("both the left and the right; say which end"));
+  CHECK_THROWS_WITH(ParseInstruction("cut the banana at 30% from the right toward the right end"),
+                    Catch::Contains("both the left and the right ('toward the right end' counts "
+                                    "from the left"));
   CHECK_THROWS_WITH(ParseInstruction("split the banana evenly"),
                     Catch::Contains("a split but not into how many pieces"));
   CHECK_THROWS_WITH(ParseInstruction("Saw cut the banana at the third boundary toward the right"),
@@ -169,6 +183,26 @@ TEST_CASE("text that cannot be parsed says what is missing or ambiguous", "[task
                     Catch::Contains("both the middle and ratio 0.3"));
   CHECK_THROWS_WITH(ParseInstruction("cut the banana at 7 from the left"),
                     Catch::Contains("the number '7' is neither a ratio"));
+  // A number word outside a quantity or piece count is as wrong as a stray digit: "three times"
+  // must not quietly become a single Middle cut.
+  CHECK_THROWS_WITH(ParseInstruction("cut the cucumber three times"),
+                    Catch::Contains("the number 'three' is neither a ratio (e.g. 0.3 ratio, 30%) "
+                                    "nor a piece count (e.g. into 3 pieces)"));
+  CHECK_THROWS_WITH(ParseInstruction("cut the cucumber 3 times"),
+                    Catch::Contains("the number '3' is neither a ratio"));
+  CHECK_THROWS_WITH(ParseInstruction("cut the cucumber twenty five times"),
+                    Catch::Contains("the number 'twenty five' is neither a ratio"));
+  // Digit strings are bounded, never overflowed.
+  CHECK_THROWS_WITH(ParseInstruction("cut the apple at 99999999999999999999/3"),
+                    Catch::Contains("the number '99999999999999999999/3' is too large"));
+  CHECK_THROWS_WITH(ParseInstruction("cut the apple at 3/99999999999999999999"),
+                    Catch::Contains("the number '3/99999999999999999999' is too large"));
+  CHECK_THROWS_WITH(ParseInstruction("cut the apple into 12345678901 pieces"),
+                    Catch::Contains("the number '12345678901' is too large"));
+  CHECK_THROWS_WITH(ParseInstruction("cut the apple at 1/0"),
+                    Catch::Contains("the fraction '1/0' divides by zero"));
+  CHECK_THROWS_WITH(ParseInstruction("cut the apple at 2000000/3000000"),
+                    Catch::Contains("is too large"));
 }
 
 TEST_CASE("the partial parse leaves unnamed fields empty for the default rules",
