@@ -1,5 +1,6 @@
 #include "sim/task/object_box.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "sim/task/cut_spec.h"
@@ -10,6 +11,10 @@ namespace {
 constexpr double kOrthonormalTolerance = 1e-6;
 // An axis closer than 45 deg to vertical cannot be the long axis of a food lying down.
 const double kMaxVerticalComponent = std::sqrt(0.5) + 1e-12;
+// Lying axes within this fraction of the longest count as equally long (round foods: apple, orange):
+// the long axis is then the one nearest the robot's left-right, so a tiny change of size cannot
+// turn the cut by 90 deg and "left" keeps meaning the robot's left.
+constexpr double kRoundShapeTolerance = 0.15;
 // An axis with less sideways (y) component than this counts as pointing straight along x.
 constexpr double kSidewaysTieTolerance = 1e-9;
 
@@ -42,10 +47,16 @@ void ValidateObjectBox(const ObjectBox& box) {
 
 LongAxis LongAxisOf(const ObjectBox& box) {
   const Eigen::Matrix3d& axes = box.pose.linear();
+  double longest_m = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    if (std::abs(axes(2, i)) <= kMaxVerticalComponent) longest_m = std::max(longest_m, box.extent_m[i]);
+  }
+  // Of the lying axes about as long as the longest, the one closest to the robot's left-right.
   int best = -1;
   for (int i = 0; i < 3; ++i) {
     if (std::abs(axes(2, i)) > kMaxVerticalComponent) continue;
-    if (best < 0 || box.extent_m[i] > box.extent_m[best]) best = i;
+    if (box.extent_m[i] < (1.0 - kRoundShapeTolerance) * longest_m) continue;
+    if (best < 0 || std::abs(axes(1, i)) > std::abs(axes(1, best))) best = i;
   }
   if (best < 0) best = 0;  // unreachable for a rotation: at most one axis is near vertical
   Eigen::Vector3d direction = axes.col(best);

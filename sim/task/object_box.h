@@ -29,8 +29,9 @@ struct LongAxis {
 void ValidateObjectBox(const ObjectBox& box);
 
 // The long axis: the longest box axis that is at least 45 deg from vertical (foods lie on the
-// board). Oriented so it points to the robot's right (-y); an axis exactly along x points away
-// from the robot (+x), so "left" is then the end nearer the robot.
+// board); among lying axes within 15 % of the longest (round foods), the one nearest world y.
+// Oriented so it points to the robot's right (-y); an axis exactly along x points away from the
+// robot (+x), so "left" is then the end nearer the robot.
 LongAxis LongAxisOf(const ObjectBox& box);
 
 // World point at `fraction` (0 = left end, 1 = right end) of the long axis.

@@ -50,6 +50,24 @@ TEST_CASE("a box standing on its long side uses its longest lying axis", "[task]
   CHECK(TopZ(standing) == Approx(0.05 + 0.15));
 }
 
+TEST_CASE("a round food's long axis is the robot's left-right, whatever tiny size change",
+          "[task][object_box]") {
+  for (const Eigen::Vector3d& extent : {Eigen::Vector3d(0.08, 0.08, 0.08),
+                                        Eigen::Vector3d(0.0801, 0.08, 0.08),
+                                        Eigen::Vector3d(0.08, 0.0801, 0.079),
+                                        Eigen::Vector3d(0.09, 0.08, 0.07)}) {
+    INFO("extent " << extent.transpose());
+    const LongAxis axis = LongAxisOf(Box(extent, Eigen::Matrix3d::Identity()));
+    CHECK(axis.direction.y() == Approx(-1.0));
+  }
+  // Turned 30 deg: the box axis nearer y (the box y, at 30 deg from world y) wins.
+  const LongAxis turned = LongAxisOf(Box({0.08, 0.08, 0.08}, Yaw(M_PI / 6)));
+  CHECK(std::abs(turned.direction.y()) == Approx(std::cos(M_PI / 6)));
+  // A clearly elongated box keeps its own long axis even when it lies along x.
+  CHECK(LongAxisOf(Box({0.10, 0.08, 0.08}, Eigen::Matrix3d::Identity())).direction.x() ==
+        Approx(1.0));
+}
+
 TEST_CASE("bad boxes are refused", "[task][object_box]") {
   CHECK_THROWS_WITH(ValidateObjectBox(Box({0.1, 0.0, 0.1}, Eigen::Matrix3d::Identity())),
                     Catch::Contains("non-positive or non-finite extent"));
