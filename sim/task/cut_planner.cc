@@ -31,6 +31,9 @@ constexpr double kMaxBiasAngle_rad = 1.22;
 // |cos| between the blade and the base->object direction below this: ask the start pose instead.
 constexpr double kBladeSignTie = 0.05;
 constexpr double kCheckStep_s = 1e-3;  // the plan is checked at least at 1 kHz
+constexpr double kMinCutSpeed_m_s = 1e-3;      // slower is not cutting, and plans would last hours
+constexpr double kMinLinearSpeed_m_s = 0.01;
+constexpr double kMaxPlanDuration_s = 600.0;   // longer plans are a mistake in the options
 constexpr double kLimitTolerance = 1e-9;
 constexpr double kTwoPi = 6.283185307179586;
 
@@ -62,9 +65,11 @@ void ValidateRange(const SampledRange& range, const std::string& name, double lo
   }
 }
 
-void ValidatePositive(double value, const std::string& name) {
-  if (!std::isfinite(value) || value <= 0.0) {
-    throw TaskError("planner option " + name + " must be > 0, got " + Format(value));
+// NaN fails the comparison and is refused with the rest.
+void ValidateWithin(double value, const std::string& name, double lowest, double highest) {
+  if (!(value >= lowest && value <= highest)) {
+    throw TaskError("planner option " + name + " must lie within [" + Format(lowest) + ", " +
+                    Format(highest) + "], got " + Format(value));
   }
 }
 
@@ -246,12 +251,14 @@ std::string Where(const TrajectorySegment& segment, int cut_count) {
 // construction; the check guards the construction.
 void CheckSegment(const TrajectorySegment& segment, int cut_count, const PlannerOptions& options) {
   const double duration_s = segment.scaling.duration_s;
-  const int steps = std::max(1, static_cast<int>(std::ceil(duration_s / kCheckStep_s)));
-  for (int k = 0; k <= steps; ++k) {
+  const std::int64_t steps =
+      std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(duration_s / kCheckStep_s)));
+  for (std::int64_t k = 0; k <= steps; ++k) {
     const TrajectorySample sample = EvaluateSegment(segment, duration_s * k / steps);
     const Eigen::Vector3d& tcp_m = sample.tcp_pose.translation();
-    if ((tcp_m.array() < options.workspace_min_m.array() - kLimitTolerance).any() ||
-        (tcp_m.array() > options.workspace_max_m.array() + kLimitTolerance).any()) {
+    // Written so that a NaN position or speed fails the check.
+    if (!((tcp_m.array() >= options.workspace_min_m.array() - kLimitTolerance).all() &&
+          (tcp_m.array() <= options.workspace_max_m.array() + kLimitTolerance).all())) {
       throw TaskError("the planned knife trajectory leaves the workspace: TCP at " +
                       Format(tcp_m) + " m during " + Where(segment, cut_count) + " (t = " +
                       Format(sample.time_s) + " s); workspace is " +
@@ -260,8 +267,8 @@ void CheckSegment(const TrajectorySegment& segment, int cut_count, const Planner
     }
     const double speed_m_s = sample.linear_velocity_m_s.norm();
     const double turn_rad_s = sample.angular_velocity_rad_s.norm();
-    if (speed_m_s > options.max_linear_speed_m_s * (1.0 + kLimitTolerance) ||
-        turn_rad_s > options.max_angular_speed_rad_s * (1.0 + kLimitTolerance)) {
+    if (!(speed_m_s <= options.max_linear_speed_m_s * (1.0 + kLimitTolerance) &&
+          turn_rad_s <= options.max_angular_speed_rad_s * (1.0 + kLimitTolerance))) {
       throw TaskError("the planned knife trajectory exceeds the speed limits during " +
                       Where(segment, cut_count) + ": " + Format(speed_m_s) + " m/s, " +
                       Format(turn_rad_s) + " rad/s at t = " + Format(sample.time_s) + " s");
@@ -291,26 +298,21 @@ std::string Name(SegmentPhase phase) {
 }
 
 void ValidatePlannerOptions(const PlannerOptions& options) {
-  ValidatePositive(options.max_linear_speed_m_s, "max_linear_speed_m_s");
-  ValidatePositive(options.max_angular_speed_rad_s, "max_angular_speed_rad_s");
-  ValidatePositive(options.approach_clearance_m, "approach_clearance_m");
-  if (!std::isfinite(options.cut_end_below_bottom_m) || options.cut_end_below_bottom_m < 0.0) {
-    throw TaskError("planner option cut_end_below_bottom_m must be >= 0, got " +
-                    Format(options.cut_end_below_bottom_m));
+  // Bounds keep every plan physically meaningful and its checking bounded in time.
+  ValidateWithin(options.max_linear_speed_m_s, "max_linear_speed_m_s", kMinLinearSpeed_m_s, 2.0);
+  ValidateWithin(options.max_angular_speed_rad_s, "max_angular_speed_rad_s", 0.05, 5.0);
+  ValidateWithin(options.approach_clearance_m, "approach_clearance_m", 1e-3, 0.5);
+  ValidateWithin(options.cut_end_below_bottom_m, "cut_end_below_bottom_m", 0.0, 0.05);
+  if (!options.workspace_min_m.allFinite() || !options.workspace_max_m.allFinite() ||
+      (options.workspace_min_m.array() >= options.workspace_max_m.array()).any()) {
+    throw TaskError("planner option workspace_min_m must be finite and below workspace_max_m");
   }
   const double inf = std::numeric_limits<double>::infinity();
   ValidateRange(options.cut_start_height_m, "cut_start_height_m", 0.0,
                 options.approach_clearance_m);
-  ValidateRange(options.cut_speed_m_s, "cut_speed_m_s", 0.0, options.max_linear_speed_m_s);
-  if (options.cut_speed_m_s.min <= 0.0) {
-    throw TaskError("planner option cut_speed_m_s must be > 0, got min " +
-                    Format(options.cut_speed_m_s.min));
-  }
-  ValidateRange(options.saw_cut_speed_m_s, "saw_cut_speed_m_s", 0.0, options.max_linear_speed_m_s);
-  if (options.saw_cut_speed_m_s.min <= 0.0) {
-    throw TaskError("planner option saw_cut_speed_m_s must be > 0, got min " +
-                    Format(options.saw_cut_speed_m_s.min));
-  }
+  ValidateRange(options.cut_speed_m_s, "cut_speed_m_s", kMinCutSpeed_m_s, options.max_linear_speed_m_s);
+  ValidateRange(options.saw_cut_speed_m_s, "saw_cut_speed_m_s", kMinCutSpeed_m_s,
+                options.max_linear_speed_m_s);
   ValidateRange(options.bias_angle_rad, "bias_angle_rad", 0.0, kMaxBiasAngle_rad);
   ValidateRange(options.saw_frequency_hz, "saw_frequency_hz", 0.0, inf);
   if (options.saw_frequency_hz.min <= 0.0) {
@@ -514,6 +516,10 @@ CutTrajectory PlanCutTrajectory(const ObjectBox& target, const CutSpec& spec,
     move(SegmentPhase::kRetreat, i, cut.cut_end, cut.after);
   }
 
+  if (!(time_s <= kMaxPlanDuration_s)) {
+    throw TaskError("the plan would last " + Format(time_s) + " s, over the " +
+                    Format(kMaxPlanDuration_s) + " s limit; raise the cut and speed options");
+  }
   for (const auto& segment : plan.segments_) {
     CheckSegment(segment, static_cast<int>(cuts.size()), options);
   }

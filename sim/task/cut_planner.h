@@ -26,7 +26,7 @@ struct PlannerOptions {
   double approach_clearance_m = 0.08;        // TCP height above the object's top for transfers
   SampledRange cut_start_height_m{0.01, 0.03};  // above the object's top where the slow cut begins
   SampledRange cut_speed_m_s{0.02, 0.05};    // knife speed through the food
-  // Saw cuts descend slower so that the knife makes several strokes (4-11 through 4.5 cm at 1-2 Hz).
+  // Saw cuts descend slower so that the knife makes several strokes (about 3-18 through 4 cm).
   SampledRange saw_cut_speed_m_s{0.008, 0.015};
   double cut_end_below_bottom_m = 0.001;     // edge ends this far below the object's bottom
   double max_linear_speed_m_s = 0.25;        // TCP speed limit for every segment

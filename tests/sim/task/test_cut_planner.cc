@@ -457,6 +457,27 @@ TEST_CASE("bad inputs are refused with a message", "[task][planner]") {
   bad_ratio.ratio = 0.95;
   CHECK_THROWS_AS(PlanCutTrajectory(cucumber, bad_ratio, StartPose(), PlannerOptions{}, 1),
                   TaskError);
+  // Options a request could send that would make plans last for days or turn into NaN.
+  PlannerOptions crawl;
+  crawl.cut_speed_m_s = {1e-9, 1e-9};
+  CHECK_THROWS_WITH(ValidatePlannerOptions(crawl), Catch::Contains("cut_speed_m_s"));
+  PlannerOptions tiny_limit;
+  tiny_limit.max_linear_speed_m_s = 1e-300;
+  CHECK_THROWS_WITH(ValidatePlannerOptions(tiny_limit), Catch::Contains("max_linear_speed_m_s"));
+  PlannerOptions not_a_number;
+  not_a_number.max_angular_speed_rad_s = std::nan("");
+  CHECK_THROWS_WITH(ValidatePlannerOptions(not_a_number), Catch::Contains("max_angular_speed_rad_s"));
+  PlannerOptions slowest;
+  slowest.cut_speed_m_s = {1e-3, 1e-3};
+  slowest.saw_cut_speed_m_s = {1e-3, 1e-3};
+  slowest.max_linear_speed_m_s = 0.01;
+  slowest.max_angular_speed_rad_s = 0.05;
+  slowest.approach_clearance_m = 0.5;
+  CutSpec five_way = Spec(CutStyle::kNormal, CutState::kSplit, "cucumber");
+  five_way.split_pieces = 5;
+  CHECK_THROWS_WITH(PlanCutTrajectory(cucumber, five_way, StartPose(), slowest, 1),
+                    Catch::Contains("over the 600 s limit"));
+
   CHECK_THROWS_WITH(PlanCutTrajectory(cucumber, Spec(CutStyle::kNormal, CutState::kMiddle, "apple"),
                                       StartPose(), PlannerOptions{}, 1),
                     Catch::Contains("is a cucumber, but the task cuts the apple"));
