@@ -93,7 +93,31 @@ TaskScore ScoreCuts(const ObjectBox& target, const CutSpec& spec,
     fractions.push_back(CutFractionAlongAxis(axis, cut));
   }
 
-  // Match measured cuts to required cuts one to one, closest pairs first.
+  // Match measured cuts to required cuts one to one. First as many within the position tolerance
+  // as possible: targets and cuts in order along the axis, each target taking the first free cut
+  // in its window (windows are equally wide, so this greedy count is the largest possible).
+  std::vector<size_t> order(on_target.size());
+  for (size_t c = 0; c < order.size(); ++c) order[c] = c;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    return fractions[a].value_or(std::numeric_limits<double>::infinity()) <
+           fractions[b].value_or(std::numeric_limits<double>::infinity());
+  });
+  std::vector<bool> cut_used(on_target.size(), false);
+  std::vector<std::optional<size_t>> match(score.required.size());
+  size_t next = 0;
+  for (size_t r = 0; r < score.required.size(); ++r) {
+    const double target = score.required[r].target_fraction;
+    const double window = tolerances.position_fraction + kToleranceSlack;
+    while (next < order.size() && fractions[order[next]] && *fractions[order[next]] < target - window) {
+      ++next;
+    }
+    if (next < order.size() && fractions[order[next]] && *fractions[order[next]] <= target + window) {
+      match[r] = order[next];
+      cut_used[order[next]] = true;
+      ++next;
+    }
+  }
+  // Then the remaining targets take the closest remaining cuts, so misses report their error.
   struct Pair {
     double distance;
     size_t required;
@@ -101,23 +125,29 @@ TaskScore ScoreCuts(const ObjectBox& target, const CutSpec& spec,
   };
   std::vector<Pair> pairs;
   for (size_t r = 0; r < score.required.size(); ++r) {
+    if (match[r]) continue;
     for (size_t c = 0; c < on_target.size(); ++c) {
-      if (!fractions[c]) continue;
+      if (cut_used[c] || !fractions[c]) continue;
       pairs.push_back({std::abs(*fractions[c] - score.required[r].target_fraction), r, c});
     }
   }
   std::stable_sort(pairs.begin(), pairs.end(),
                    [](const Pair& a, const Pair& b) { return a.distance < b.distance; });
-  std::vector<bool> cut_used(on_target.size(), false);
   for (const Pair& pair : pairs) {
-    RequiredCutScore& required = score.required[pair.required];
-    if (required.placed || cut_used[pair.cut]) continue;
-    required.placed = true;
+    if (match[pair.required] || cut_used[pair.cut]) continue;
+    match[pair.required] = pair.cut;
     cut_used[pair.cut] = true;
-    const MeasuredCut& cut = *on_target[pair.cut];
-    required.measured_fraction = *fractions[pair.cut];
-    required.position_error_fraction = pair.distance;
-    required.position_ok = pair.distance <= tolerances.position_fraction + kToleranceSlack;
+  }
+
+  for (size_t r = 0; r < score.required.size(); ++r) {
+    if (!match[r]) continue;
+    RequiredCutScore& required = score.required[r];
+    const MeasuredCut& cut = *on_target[*match[r]];
+    required.placed = true;
+    required.measured_fraction = *fractions[*match[r]];
+    required.position_error_fraction = std::abs(required.measured_fraction - required.target_fraction);
+    required.position_ok =
+        required.position_error_fraction <= tolerances.position_fraction + kToleranceSlack;
     required.angle_measured = cut.plane_normal.has_value();
     if (required.angle_measured) {
       required.angle_error_rad =
@@ -126,12 +156,15 @@ TaskScore ScoreCuts(const ObjectBox& target, const CutSpec& spec,
                                   tolerances.bias_max_rad)
               : AngleToPerpendicularPlane(axis.direction, *cut.plane_normal);
     }
-    required.angle_ok =
-        !required.angle_measured || required.angle_error_rad <= tolerances.angle_rad + kToleranceSlack;
+    required.angle_ok = !required.angle_measured ||
+                        required.angle_error_rad <= tolerances.angle_rad + kToleranceSlack;
     required.correct = required.position_ok && required.angle_ok;
   }
   score.extra_cuts = static_cast<int>(std::count(cut_used.begin(), cut_used.end(), false));
-  for (const RequiredCutScore& required : score.required) score.cuts_correct += required.correct;
+  for (const RequiredCutScore& required : score.required) {
+    score.cuts_correct += required.correct;
+    score.cuts_within_position_tolerance += required.position_ok;
+  }
 
   // The first reason that fails the task, in the order a person would check.
   std::ostringstream summary;
@@ -199,9 +232,10 @@ std::vector<MeasuredCut> CutsFromPieceBounds(
 
 void PartialSuccessTable::Add(const CutSpec& spec, const TaskScore& score) {
   if (spec.state != CutState::kSplit) return;
+  ValidateCutSpec(spec);
   auto& counts = counts_[{spec.target_object, spec.split_pieces}];
   counts.resize(spec.split_pieces, 0);
-  counts[std::min(score.cuts_correct, spec.split_pieces - 1)] += 1;
+  counts[std::clamp(score.cuts_within_position_tolerance, 0, spec.split_pieces - 1)] += 1;
 }
 
 const std::vector<int>& PartialSuccessTable::Counts(const std::string& food, int pieces) const {

@@ -57,7 +57,8 @@ struct RequiredCutScore {
 struct TaskScore {
   bool success = false;
   int cuts_required = 0;
-  int cuts_correct = 0;                // required cuts placed within tolerance (partial success)
+  int cuts_correct = 0;                // required cuts correct in position and angle
+  int cuts_within_position_tolerance = 0;  // required cuts within +-1/10 (the paper's split table)
   int extra_cuts = 0;                  // cuts on the target that match no required cut
   int wrong_object_cuts = 0;           // cuts through other objects
   std::vector<RequiredCutScore> required;  // in target order, left to right
@@ -82,11 +83,12 @@ std::vector<MeasuredCut> CutsFromPieceBounds(
     const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& piece_bounds_m);
 
 // The paper's partial-success table for split cuts: for each (food, pieces), how many episodes
-// placed exactly k of the required cuts correctly.
+// placed exactly k of the required cuts within the position tolerance (the paper counts position
+// only; TaskScore::cuts_correct also checks the angle).
 class PartialSuccessTable {
  public:
-  void Add(const CutSpec& spec, const TaskScore& score);  // ignores non-split specs
-  // counts[k] = episodes with exactly k correct cuts, k = 0 .. pieces - 1.
+  void Add(const CutSpec& spec, const TaskScore& score);  // ignores non-split specs; validates spec
+  // counts[k] = episodes with exactly k cuts within tolerance, k = 0 .. pieces - 1.
   const std::vector<int>& Counts(const std::string& food, int pieces) const;
   // Markdown table in percent of episodes, rows food x "1/n", columns k = 1 .. 4.
   std::string ToMarkdown() const;

@@ -88,6 +88,19 @@ TEST_CASE("a split with one cut missing reports partial success", "[task][metric
   CHECK_THAT(missing.summary, Catch::Contains("2 of 3") && Catch::Contains("target 50.0%: no cut"));
 }
 
+TEST_CASE("matching places as many cuts within tolerance as possible", "[task][metrics]") {
+  const ObjectBox box = Cucumber();
+  SuccessTolerances wide;
+  wide.position_fraction = 0.15;
+  // Targets 0.2, 0.4, 0.6, 0.8. The cut at 0.33 is closest to 0.4, but taking it there would leave
+  // 0.52 with no target in reach; placed at 0.2 and 0.4 both count.
+  const TaskScore score = ScoreCuts(box, Split(5), {CutAt(box, 0.33), CutAt(box, 0.52)}, wide);
+  CHECK(score.cuts_within_position_tolerance == 2);
+  CHECK(score.required[0].measured_fraction == Approx(0.33));
+  CHECK(score.required[1].measured_fraction == Approx(0.52));
+  CHECK_FALSE(score.required[2].placed);
+}
+
 TEST_CASE("a cut through another object fails the task", "[task][metrics]") {
   const ObjectBox target = Cucumber("cucumber_0");
   MeasuredCut elsewhere = CutAt(target, 0.5);
@@ -182,7 +195,10 @@ TEST_CASE("the partial-success table counts exactly-k correct cuts", "[task][met
   table.Add(Split(3), ScoreCuts(box, Split(3), {CutAt(box, 1.0 / 3), CutAt(box, 2.0 / 3)}));
   table.Add(Ratio(0.3, DirectionalReference::kLeft), TaskScore{});  // not a split: ignored
   CHECK(table.Counts("cucumber", 3) == std::vector<int>{1, 1, 1});
-  CHECK_THAT(table.ToMarkdown(), Catch::Contains("| cucumber | 1/3 | 3 | 33.3% | 33.3% | -- | -- |"));
+  // The paper's table counts position only: a cut in place at a wrong angle still counts.
+  table.Add(Split(3), ScoreCuts(box, Split(3), {CutAt(box, 1.0 / 3, Eigen::Vector3d(0.5, -0.8660254, 0))}));
+  CHECK(table.Counts("cucumber", 3) == std::vector<int>{1, 2, 1});
+  CHECK_THAT(table.ToMarkdown(), Catch::Contains("| cucumber | 1/3 | 4 | 50.0% | 25.0% | -- | -- |"));
 }
 
 }  // namespace
