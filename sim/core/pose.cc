@@ -1,5 +1,7 @@
 #include "sim/core/pose.h"
 
+#include <cmath>
+
 namespace culinarycut {
 
 Vector7d PoseToVector(const Eigen::Isometry3d& pose) {
@@ -18,6 +20,12 @@ Eigen::Isometry3d PoseFromVector(const Vector7d& pose) {
   out.linear() = q.toRotationMatrix();
   out.translation() = pose.head<3>();
   return out;
+}
+
+std::optional<Eigen::Vector4d> NormalizedQuaternion(const Eigen::Vector4d& wxyz) {
+  const double largest = wxyz.cwiseAbs().maxCoeff();
+  if (!std::isfinite(largest) || largest == 0.0) return std::nullopt;
+  return (wxyz / largest).normalized();
 }
 
 Eigen::Vector3d OrientationError(const Eigen::Matrix3d& from, const Eigen::Matrix3d& to) {

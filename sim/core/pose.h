@@ -2,6 +2,8 @@
 // [x, y, z, qw, qx, qy, qz]; positions in metres, angles in radians.
 #pragma once
 
+#include <optional>
+
 #include <Eigen/Geometry>
 
 namespace culinarycut {
@@ -14,6 +16,10 @@ Vector7d PoseToVector(const Eigen::Isometry3d& pose);
 
 // Isometry from [x, y, z, qw, qx, qy, qz]; the quaternion is normalised (caller checks norm > 0).
 Eigen::Isometry3d PoseFromVector(const Vector7d& pose);
+
+// Unit quaternion (w, x, y, z) from one of any finite, positive norm: scaled by its largest element
+// first, so 1e200 or 1e-200 entries neither overflow nor underflow. Nullopt for zero or non-finite.
+std::optional<Eigen::Vector4d> NormalizedQuaternion(const Eigen::Vector4d& wxyz);
 
 // Rotation vector (axis * angle, rad) taking `from` to `to`, expressed in the world frame.
 Eigen::Vector3d OrientationError(const Eigen::Matrix3d& from, const Eigen::Matrix3d& to);

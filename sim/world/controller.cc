@@ -48,11 +48,10 @@ std::optional<std::string> ValidateAction(const Model& model, const Action& acti
 JointTarget ComputeJointTarget(const Model& model, const Eigen::VectorXd& q_measured_rad, const Action& action) {
   JointTarget target;
   Eigen::VectorXd values = action.values;
-  // A quaternion of any positive norm is valid: normalise it (after scaling by its largest element,
-  // so 1e200 or 1e-200 entries neither overflow nor underflow), so clipping never changes its direction.
+  // A quaternion of any positive norm is valid (ValidateAction refused zero): normalise it, so
+  // clipping never changes its direction.
   if (action.mode == ControlMode::kEndEffectorPose) {
-    values.segment<4>(3) /= values.segment<4>(3).cwiseAbs().maxCoeff();
-    values.segment<4>(3).normalize();
+    values.segment<4>(3) = *NormalizedQuaternion(values.segment<4>(3));
   }
   target.clipped = ClipToBounds(&values, ActionBoundsFor(model, action.mode));
   switch (action.mode) {
