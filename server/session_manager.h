@@ -25,7 +25,9 @@ struct Session {
   std::string id;
   std::shared_ptr<const Model> model;
   State state;
-  std::optional<ScriptedOracle> oracle;  // set by Tasks.StartOracle, cleared by Reset
+  // Set by Tasks.StartOracle; cleared by Reset and by a StartOracle that fails. RestoreSnapshot
+  // keeps it, so a restored episode replays the same oracle actions.
+  std::optional<ScriptedOracle> oracle;
   std::mutex mutex;  // held for the whole of any call into this session
   std::chrono::steady_clock::time_point last_used;
 };

@@ -67,7 +67,7 @@ grpc::Status SimulatorService::Reset(grpc::ServerContext*, const v1::ResetReques
   try {
     ResetState(*session->model, &session->state, seed,
                std::vector<double>(request->initial_qpos().begin(), request->initial_qpos().end()));
-    session->oracle.reset();  // a plan belongs to the episode it was made in
+    session->oracle.reset();  // a new episode: the oracle's plan was for the old one
   } catch (const SceneError& error) {
     return InvalidArgument(error.what());
   }

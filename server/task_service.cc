@@ -128,35 +128,33 @@ grpc::Status TaskService::StartOracle(grpc::ServerContext*, const v1::StartOracl
   if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) {
     return status;
   }
-  OracleConfig config;
-  if (grpc::Status status = RunTask([&] {
-        config.spec = SpecFromRequest(*request);
-        for (int i = 0; i < request->objects_size(); ++i) {
-          config.objects.push_back(
-              ObjectBoxFromWire(request->objects(i), "objects[" + std::to_string(i) + "]"));
-        }
-        config.target_name = request->target_name();
-        if (!request->control_mode().empty()) {
-          const std::optional<ControlMode> mode = ParseControlMode(request->control_mode());
-          if (!mode) {
-            throw task::TaskError("control_mode '" + request->control_mode() +
-                                  "' is unknown; use pd_joint_pos, pd_joint_delta_pos, pd_ee_pose "
-                                  "or pd_ee_delta_pose");
-          }
-          config.control_mode = *mode;
-        }
-        config.planner = PlannerOptionsFromWire(request->options());
-      });
-      !status.ok()) {
-    return status;
-  }
-
   std::lock_guard<std::mutex> lock(session->mutex);
   if (!session->state.has_been_reset()) return NotReset(*session);
-  config.seed = request->has_seed() ? request->seed().value() : session->state.seed;
+  // A client that ignores a failed StartOracle must not go on running the previous plan.
+  session->oracle.reset();
   const Model& model = *session->model;
   return RunTask([&] {
-    const double rate_hz = SampleRateFromWire(request->sample_rate_hz(), 1.0 / model.control_timestep_s);
+    OracleConfig config;
+    config.spec = SpecFromRequest(*request);
+    for (int i = 0; i < request->objects_size(); ++i) {
+      config.objects.push_back(
+          ObjectBoxFromWire(request->objects(i), "objects[" + std::to_string(i) + "]"));
+    }
+    config.target_name = request->target_name();
+    if (!request->control_mode().empty()) {
+      const std::optional<ControlMode> mode = ParseControlMode(request->control_mode());
+      if (!mode) {
+        throw task::TaskError("control_mode '" + request->control_mode() +
+                              "' is unknown; use pd_joint_pos, pd_joint_delta_pos, pd_ee_pose or "
+                              "pd_ee_delta_pose");
+      }
+      config.control_mode = *mode;
+    }
+    config.planner = PlannerOptionsFromWire(request->options());
+    config.seed = request->has_seed() ? request->seed().value() : session->state.seed;
+    const double rate_hz =
+        SampleRateFromWire(request->sample_rate_hz(), 1.0 / model.control_timestep_s);
+
     ScriptedOracle oracle(model, config, session->state.physics->JointPositions(),
                           session->state.sim_time_s);
     CutPlanToWire(oracle.trajectory(), oracle.target().name, rate_hz, response->mutable_plan());
@@ -164,7 +162,7 @@ grpc::Status TaskService::StartOracle(grpc::ServerContext*, const v1::StartOracl
     spdlog::info("session {}: oracle planned {} on {} ({:.2f} s)", session->id,
                  task::Describe(oracle.spec()), oracle.target().name,
                  oracle.trajectory().duration_s());
-    session->oracle.emplace(std::move(oracle));  // only a plan that was sent replaces the old one
+    session->oracle.emplace(std::move(oracle));
   });
 }
 

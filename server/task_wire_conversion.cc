@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "sim/core/pose.h"
+
 namespace culinarycut::server {
 namespace {
 
@@ -59,12 +61,10 @@ Eigen::Isometry3d PoseFromWire(const v1::Pose& wire, const std::string& field) {
     throw task::TaskError(field + ".quaternion must have 4 values [w, x, y, z], got " +
                           std::to_string(wire.quaternion_size()));
   }
-  Eigen::Quaterniond rotation(wire.quaternion(0), wire.quaternion(1), wire.quaternion(2),
-                              wire.quaternion(3));
-  if (!rotation.coeffs().allFinite() || rotation.norm() == 0.0) {
-    throw task::TaskError(field + ".quaternion must be finite with a positive norm");
-  }
-  pose.linear() = rotation.normalized().toRotationMatrix();
+  const std::optional<Eigen::Vector4d> wxyz = NormalizedQuaternion(
+      {wire.quaternion(0), wire.quaternion(1), wire.quaternion(2), wire.quaternion(3)});
+  if (!wxyz) throw task::TaskError(field + ".quaternion must be finite with a positive norm");
+  pose.linear() = Eigen::Quaterniond((*wxyz)[0], (*wxyz)[1], (*wxyz)[2], (*wxyz)[3]).toRotationMatrix();
   return pose;
 }
 
@@ -182,6 +182,7 @@ void TaskScoreToWire(const task::TaskScore& score, v1::TaskScore* wire) {
   wire->set_success(score.success);
   wire->set_cuts_required(score.cuts_required);
   wire->set_cuts_correct(score.cuts_correct);
+  wire->set_cuts_within_position_tolerance(score.cuts_within_position_tolerance);
   wire->set_extra_cuts(score.extra_cuts);
   wire->set_wrong_object_cuts(score.wrong_object_cuts);
   for (const task::RequiredCutScore& required : score.required) {

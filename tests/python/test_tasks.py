@@ -78,6 +78,8 @@ def test_score_cuts_through_the_client(client):
     assert score["success"] is True
     missing = client.tasks.score_cuts(spec, CUCUMBER, [cut_at(1 / 3)])
     assert (missing["success"], missing["cuts_correct"], missing["cuts_required"]) == (False, 1, 2)
+    assert missing["cuts_within_position_tolerance"] == 1
+    assert [r["placed"] for r in missing["required"]] == [True, False]
     with pytest.raises(errors.InvalidArgument, match="object_name is empty"):
         client.tasks.score_cuts(spec, CUCUMBER, [{"plane_point_m": [0.5, 0, 0.05]}])
 
@@ -119,7 +121,10 @@ def test_oracle_errors(client, session):
 class _FakeChatEndpoint(BaseHTTPRequestHandler):
     """An OpenAI-compatible /chat/completions that answers one faithful and one wrong paraphrase."""
 
-    reply = "1. Please slice the cucumber 30% of the way in from the left end\n2. cut the cucumber at 0.6 ratio from the left"
+    reply = ("1. Please slice the cucumber 30% of the way in from the left end\n"
+             "2) cut the cucumber at 0.6 ratio from the left\n"
+             "- 0.3 ratio from the left: cut the cucumber there\n"
+             "* cut the cucumber at the midpoint")
 
     def do_POST(self):  # noqa: N802 (http.server's naming)
         body = json.loads(self.rfile.read(int(self.headers["Content-Length"])))
@@ -141,8 +146,9 @@ def test_paraphrases_that_change_the_meaning_are_rejected(client):
     try:
         endpoint = f"http://127.0.0.1:{http.server_port}/v1"
         kept, rejected = paraphrase(client.tasks, ["cut the cucumber at 0.3 ratio from the left"], endpoint, "any")
-        assert kept == ["Please slice the cucumber 30% of the way in from the left end"]
-        assert rejected == ["cut the cucumber at 0.6 ratio from the left"]
+        assert kept == ["Please slice the cucumber 30% of the way in from the left end",
+                        "0.3 ratio from the left: cut the cucumber there"]  # the 0.3 is not a list marker
+        assert rejected == ["cut the cucumber at 0.6 ratio from the left", "cut the cucumber at the midpoint"]
     finally:
         http.shutdown()
     with pytest.raises(ParaphraseError, match="unreachable"):
@@ -154,6 +160,8 @@ def test_cli_parse_and_instructions(address, capsys):
     assert "guillotine cut, middle, peach" in capsys.readouterr().out
     assert cli_main(["instructions", "--address", address, "--object", "orange", "--state", "ratio",
                      "--ratio", "0.25", "--side", "right", "--count", "5"]) == 0
+    assert len(capsys.readouterr().out.strip().splitlines()) == 5
+    assert cli_main(["instructions", "--address", address, "--state", "split", "--pieces", "4"]) == 0
     assert len(capsys.readouterr().out.strip().splitlines()) == 5
     assert cli_main(["parse", "--address", address, "do a little dance"]) == 4
     assert "server rejected a request: INVALID_ARGUMENT" in capsys.readouterr().err

@@ -76,6 +76,25 @@ TEST_CASE("instructions parse to cut specs over the wire and bad ones name what 
   REQUIRE(parsed.target_fractions_size() == 1);
   CHECK(parsed.target_fractions(0) == Approx(0.3));
 
+  // Generated held-out instructions parse back to their spec over the wire too.
+  v1::GenerateInstructionsRequest generate;
+  *generate.mutable_spec() = parsed.spec();
+  generate.set_seed(11);
+  generate.set_count(6);
+  generate.set_split("held_out");
+  const std::vector<std::string> instructions = client.GenerateInstructions(generate);
+  REQUIRE(instructions.size() == 6);
+  for (const std::string& instruction : instructions) {
+    INFO(instruction);
+    const v1::CutSpec back = client.ParseInstruction(instruction).spec();
+    CHECK(back.style() == "saw");
+    CHECK(back.ratio() == Approx(0.3));
+    CHECK(back.reference() == "left");
+  }
+  generate.set_split("validation");
+  CHECK_THAT(ErrorOf([&] { client.GenerateInstructions(generate); }).second,
+             Catch::Contains("use train, held_out or all"));
+
   const auto [code, message] = ErrorOf([&] { client.ParseInstruction("cut it at 0.3 ratio"); });
   CHECK(code == grpc::StatusCode::INVALID_ARGUMENT);
   CHECK_THAT(message, Catch::Contains("cucumber"));  // the message lists the foods it knows
@@ -169,7 +188,7 @@ TEST_CASE("the scripted oracle cuts through the target in every control mode", "
     }
   }
   INFO("control mode " << mode << ", " << steps << " steps");
-  CHECK(steps == Approx(plan.duration_s() / 0.05).margin(2));
+  CHECK(steps == Approx(plan.duration_s() / session->handshake().control_timestep()).margin(2));
   CHECK(worst_plane_distance_m < 0.002);
   CHECK(lowest_tcp_z_m < 0.02 + 0.002);  // the edge reached the object's bottom (board top)
 
@@ -222,6 +241,12 @@ TEST_CASE("oracle calls out of order or on bad input get clear errors", "[server
   CHECK(code == grpc::StatusCode::INVALID_ARGUMENT);
   CHECK_THAT(message, Catch::Contains("extent"));
 
+  // A good plan, then a failed StartOracle: the old plan must not run on silently.
+  session->StartOracle(request);
+  CHECK_FALSE(session->OracleAction().finished());
+  CHECK(ErrorOf([&] { session->StartOracle(no_banana); }).first == grpc::StatusCode::INVALID_ARGUMENT);
+  CHECK(ErrorOf([&] { session->OracleAction(); }).first == grpc::StatusCode::FAILED_PRECONDITION);
+
   // A good plan, then Reset: the plan belonged to the old episode.
   session->StartOracle(request);
   CHECK_FALSE(session->OracleAction().finished());
@@ -251,4 +276,32 @@ TEST_CASE("a plan too long for one message at the asked rate is refused with adv
   CHECK_THAT(message, Catch::Contains("lower sample_rate_hz"));
   request.set_sample_rate_hz(100);
   CHECK(client.PlanCut(request).cuts_size() == 4);
+}
+
+TEST_CASE("after RestoreSnapshot the oracle replays the same actions", "[server][tasks][oracle]") {
+  server::SimulationServer server(TestOptions());
+  Client client(server.address());
+  auto session = client.CreateSession();
+  session->Reset(5);
+  v1::StartOracleRequest request;
+  request.set_instruction("saw the cucumber into three pieces");
+  *request.add_objects() = CucumberBox();
+  session->StartOracle(request);
+  auto run = [&](int steps) {
+    std::vector<double> trace;
+    for (int i = 0; i < steps; ++i) {
+      const v1::OracleActionResponse next = session->OracleAction();
+      const std::vector<double> values(next.action().values().begin(), next.action().values().end());
+      trace.insert(trace.end(), values.begin(), values.end());
+      const StepResult result = session->Step(next.action().control_mode(), values);
+      trace.insert(trace.end(), result.observation.tcp_pose.begin(), result.observation.tcp_pose.end());
+    }
+    return trace;
+  };
+  run(40);
+  const std::string snapshot = session->SaveSnapshot();
+  const std::vector<double> first = run(60);
+  session->RestoreSnapshot(snapshot);
+  const std::vector<double> replay = run(60);
+  CHECK(first == replay);  // bit for bit
 }

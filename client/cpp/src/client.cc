@@ -69,6 +69,12 @@ v1::ParseInstructionResponse Client::ParseInstruction(const std::string& instruc
   return response;
 }
 
+std::vector<std::string> Client::GenerateInstructions(const v1::GenerateInstructionsRequest& request) {
+  v1::GenerateInstructionsResponse response;
+  Check("GenerateInstructions", tasks_stub_->GenerateInstructions(MakeContext().get(), request, &response));
+  return {response.instructions().begin(), response.instructions().end()};
+}
+
 v1::CutPlan Client::PlanCut(const v1::PlanCutRequest& request) {
   v1::PlanCutResponse response;
   Check("PlanCut", tasks_stub_->PlanCut(MakeContext().get(), request, &response));

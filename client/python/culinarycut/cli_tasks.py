@@ -99,7 +99,8 @@ def register(sub, common: argparse.ArgumentParser) -> None:
     gen.add_argument("--style", default="normal", choices=["normal", "bias", "guillotine", "saw"])
     gen.add_argument("--state", default="middle", choices=["middle", "ratio", "split"])
     gen.add_argument("--ratio", type=float, default=0.3, help="ratio cuts: fraction in [0.1, 0.9]")
-    gen.add_argument("--side", default="left", choices=["none", "left", "right", "top", "along_length"])
+    gen.add_argument("--side", default="none", choices=["none", "left", "right", "top", "along_length"],
+                     help="directional reference (ratio cuts: left or right; default %(default)s)")
     gen.add_argument("--pieces", type=int, default=3, help="split cuts: 3, 4 or 5")
     gen.add_argument("--count", type=int, default=5)
     gen.add_argument("--seed", type=int, default=0)

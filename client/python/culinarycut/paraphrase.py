@@ -1,12 +1,13 @@
 """Optional paraphrasing of generated instructions by an OpenAI-compatible chat endpoint.
 
 Off by default: nothing here runs unless a caller passes an endpoint. Every paraphrase is parsed
-back by the server and kept only if it means exactly the same cut spec, so a model that changes a
-ratio, a side or the food cannot corrupt a dataset.
+back by the server and kept only if it asks for the same cut (style, state, food and cut
+positions), so a model that changes a ratio, a side or the food cannot corrupt a dataset.
 """
 from __future__ import annotations
 
 import json
+import re
 import urllib.error
 import urllib.request
 from typing import Sequence
@@ -19,6 +20,10 @@ PROMPT = (
     "style, the position (numbers, fractions, sides) and the number of pieces exactly. "
     "Answer with one instruction per line and nothing else.\n\n{instructions}"
 )
+
+
+# "1. ", "2) ", "- ", "* " at the start of a line: list markers, not part of the instruction.
+LIST_MARKER = re.compile(r"^(?:\d{1,3}[.)]\s+|[-*\u2022]\s+)")
 
 
 class ParaphraseError(RuntimeError):
@@ -47,20 +52,23 @@ def request_paraphrases(instructions: Sequence[str], endpoint: str, model: str, 
         raise ParaphraseError(f"paraphrase endpoint {url} unreachable: {err}") from None
     except (ValueError, KeyError, IndexError, TypeError) as err:
         raise ParaphraseError(f"paraphrase endpoint {url} did not answer a chat completion: {err!r}") from None
-    lines = (line.strip().lstrip("-*0123456789.) ").strip() for line in str(content).splitlines())
+    lines = (LIST_MARKER.sub("", line.strip()).strip() for line in str(content).splitlines())
     return [line for line in lines if line]
 
 
 def _meaning(parsed: dict) -> tuple:
-    """What a cut instruction asks for: style, food and where the cuts go (not how it is phrased)."""
+    """What a cut instruction asks for: style, state, food and where the cuts go (not how it is
+    phrased, nor which end a position is measured from)."""
     spec = parsed["spec"]
-    return (spec["style"], spec["target_object"], tuple(round(f, 9) for f in parsed["target_fractions"]))
+    return (spec["style"], spec["state"], spec["target_object"],
+            tuple(round(f, 9) for f in parsed["target_fractions"]))
 
 
 def paraphrase(tasks: TaskClient, instructions: Sequence[str], endpoint: str, model: str,
                **kwargs) -> tuple[list[str], list[str]]:
     """(kept, rejected) paraphrases of `instructions`, which must all ask for the same cut: kept ones
-    parse to the same style, food and cut positions; the rest changed the meaning or do not parse."""
+    parse to the same style, state, food and cut positions; the rest changed the meaning or do not
+    parse."""
     if not instructions:
         raise ValueError("give at least one instruction to paraphrase")
     wanted = _meaning(tasks.parse_instruction(instructions[0]))

@@ -87,8 +87,7 @@ def plan_to_dict(plan: task_pb2.CutPlan) -> dict[str, Any]:
                   "target_plane_normal": np.asarray(c.target_plane_normal),
                   "blade_plane_normal": np.asarray(c.blade_plane_normal),
                   "start_time_s": c.start_time_s, "end_time_s": c.end_time_s} for c in plan.cuts],
-        "parameters": json_format.MessageToDict(plan.parameters, preserving_proto_field_name=True,
-                                                including_default_value_fields=True),
+        "parameters": _fields(plan.parameters),
         "time_s": np.array([s.time_s for s in samples]),
         "tcp_pose": np.array([list(s.tcp_pose.position) + list(s.tcp_pose.quaternion)
                               for s in samples]).reshape(-1, 7),
@@ -99,9 +98,16 @@ def plan_to_dict(plan: task_pb2.CutPlan) -> dict[str, Any]:
     }
 
 
+def _fields(message) -> dict[str, Any]:
+    """Every field of a flat message, defaults included (MessageToDict's option for that was
+    renamed in protobuf 5.26, so it is not used)."""
+    return {field.name: getattr(message, field.name) for field in message.DESCRIPTOR.fields}
+
+
 def score_to_dict(score: task_pb2.TaskScore) -> dict[str, Any]:
-    return json_format.MessageToDict(score, preserving_proto_field_name=True,
-                                     including_default_value_fields=True)
+    result = _fields(score)
+    result["required"] = [_fields(required) for required in score.required]
+    return result
 
 
 def _measured_cut(cut) -> task_pb2.MeasuredCut:

@@ -66,6 +66,7 @@ class Client {
 
   // Stateless task calls (the Tasks service): instruction -> spec, planning, scoring.
   v1::ParseInstructionResponse ParseInstruction(const std::string& instruction);
+  std::vector<std::string> GenerateInstructions(const v1::GenerateInstructionsRequest& request);
   v1::CutPlan PlanCut(const v1::PlanCutRequest& request);
   v1::TaskScore ScoreCuts(const v1::ScoreCutsRequest& request);
   // A context with this client's deadline.
