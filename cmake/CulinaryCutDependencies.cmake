@@ -1,5 +1,6 @@
 # Every third-party package the build uses, found once. scripts/install_deps.sh installs them.
 find_package(Threads REQUIRED)
+find_package(OpenMP REQUIRED)                # MPM transfers; gcc's own libgomp
 find_package(Protobuf REQUIRED)          # module mode: CONFIG mode is broken on Debian 12
 find_package(gRPC CONFIG REQUIRED)
 find_package(Eigen3 CONFIG REQUIRED)

@@ -1,0 +1,89 @@
+#include "sim/mpm/materials.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace culinarycut::mpm {
+namespace {
+
+// Presets. Bulk values from the literature where it has them (shared/reference/physics.md);
+// "chosen" where it does not. Yield stresses set plastic flow near the failure stress.
+std::vector<Material> Presets() {
+  auto make = [](const char* name, double E_pa, double nu, double rho, double yield_pa,
+                 double friction, const char* source) {
+    Material m;
+    m.name = name;
+    m.youngs_modulus_pa = E_pa;
+    m.poisson_ratio = nu;
+    m.density_kg_m3 = rho;
+    m.yield_stress_pa = yield_pa;
+    m.friction_coefficient = friction;
+    m.source = source;
+    return m;
+  };
+  return {
+      make("apple", 3.0e6, 0.17, 787.0, 0.35e6, 0.5,
+           "E 3.0 MPa as simulated by DiSECt (NVlabs); nu 0.17, rho 787 kg/m^3; failure stress "
+           "0.32-0.37 MPa (Chakespari et al.)"),
+      make("cucumber", 2.5e6, 0.37, 1000.0, 0.3e6, 0.5,
+           "E 2.5 MPa, nu 0.37, rho 940-1100 kg/m^3, friction 0.5 (Jamdagni & Jia, IROS 2019); "
+           "yield chosen"),
+      make("banana", 0.5e6, 0.35, 950.0, 0.08e6, 0.4,
+           "chosen: E in the unverified 0.1-1 MPa range of physics.md"),
+      make("strawberry", 0.3e6, 0.35, 900.0, 0.05e6, 0.4,
+           "chosen: E in the unverified 0.1-1 MPa range of physics.md"),
+      make("peach", 1.5e6, 0.3, 950.0, 0.2e6, 0.5,
+           "chosen: E in the unverified 0.5-5 MPa range of physics.md"),
+      make("melon", 2.0e6, 0.3, 930.0, 0.25e6, 0.5,
+           "chosen: E in the unverified 0.5-5 MPa range of physics.md"),
+      make("orange", 1.0e6, 0.3, 950.0, 0.15e6, 0.5,
+           "chosen: E in the unverified 0.5-5 MPa range of physics.md"),
+      make("generic", 0.5e6, 0.3, 1000.0, 0.0, 0.5,
+           "chosen: a soft elastic solid in the middle of the paper's 0.1-0.9 MPa sweep"),
+  };
+}
+
+}  // namespace
+
+double Material::dilatational_wave_speed_m_s() const {
+  return std::sqrt((lame_lambda_pa() + 2.0 * shear_modulus_pa()) / density_kg_m3);
+}
+
+void ValidateMaterial(const Material& material) {
+  const std::string where = "material '" + material.name + "': ";
+  if (!(material.youngs_modulus_pa > 0.0 && std::isfinite(material.youngs_modulus_pa))) {
+    throw std::invalid_argument(where + "youngs_modulus_pa must be > 0");
+  }
+  if (!(material.poisson_ratio > -1.0 && material.poisson_ratio < 0.5)) {
+    throw std::invalid_argument(where + "poisson_ratio must lie in (-1, 0.5)");
+  }
+  if (!(material.density_kg_m3 > 0.0 && std::isfinite(material.density_kg_m3))) {
+    throw std::invalid_argument(where + "density_kg_m3 must be > 0");
+  }
+  if (!(material.yield_stress_pa >= 0.0 && std::isfinite(material.yield_stress_pa))) {
+    throw std::invalid_argument(where + "yield_stress_pa must be >= 0 (0 turns plasticity off)");
+  }
+  if (!(material.viscoplastic_relaxation >= 0.0 && material.viscoplastic_relaxation <= 1.0)) {
+    throw std::invalid_argument(where + "viscoplastic_relaxation must lie in [0, 1]");
+  }
+  if (!(material.friction_coefficient >= 0.0 && std::isfinite(material.friction_coefficient))) {
+    throw std::invalid_argument(where + "friction_coefficient must be >= 0");
+  }
+}
+
+Material MaterialPreset(const std::string& name) {
+  std::string names;
+  for (const Material& preset : Presets()) {
+    if (preset.name == name) return preset;
+    names += (names.empty() ? "" : ", ") + preset.name;
+  }
+  throw std::invalid_argument("unknown material preset '" + name + "'; presets: " + names);
+}
+
+std::vector<std::string> MaterialPresetNames() {
+  std::vector<std::string> names;
+  for (const Material& preset : Presets()) names.push_back(preset.name);
+  return names;
+}
+
+}  // namespace culinarycut::mpm

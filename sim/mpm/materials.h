@@ -1,0 +1,37 @@
+// Named food material presets with their sources (shared/reference/physics.md); every value can
+// be overridden. SI units throughout.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace culinarycut::mpm {
+
+struct Material {
+  std::string name;                   // preset name, e.g. "cucumber"
+  double youngs_modulus_pa = 1e6;     // E
+  double poisson_ratio = 0.3;         // nu, in (-1, 0.5)
+  double density_kg_m3 = 1000.0;      // rho
+  double yield_stress_pa = 0.0;       // J2 yield stress sigma_y; 0 = no plasticity
+  double viscoplastic_relaxation = 0.0;  // 0 = rate-independent radial return; > 0: fraction of
+                                         // the overstress relaxed per step, in (0, 1]
+  double friction_coefficient = 0.5;  // Coulomb, knife and board against this food
+  std::string source;                 // where the numbers come from
+
+  double shear_modulus_pa() const { return youngs_modulus_pa / (2.0 * (1.0 + poisson_ratio)); }
+  double lame_lambda_pa() const {
+    return youngs_modulus_pa * poisson_ratio / ((1.0 + poisson_ratio) * (1.0 - 2.0 * poisson_ratio));
+  }
+  // P-wave speed sqrt((lambda + 2 mu) / rho), m/s: what the CFL time step is bound by.
+  double dilatational_wave_speed_m_s() const;
+};
+
+// Throws std::invalid_argument naming the field when a value is out of range.
+void ValidateMaterial(const Material& material);
+
+// The preset for a food (banana, cucumber, apple, peach, melon, orange, strawberry) or "generic".
+// Throws std::invalid_argument listing the presets for an unknown name.
+Material MaterialPreset(const std::string& name);
+std::vector<std::string> MaterialPresetNames();
+
+}  // namespace culinarycut::mpm
