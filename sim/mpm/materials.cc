@@ -63,8 +63,9 @@ void ValidateMaterial(const Material& material) {
   if (!(material.yield_stress_pa >= 0.0 && std::isfinite(material.yield_stress_pa))) {
     throw std::invalid_argument(where + "yield_stress_pa must be >= 0 (0 turns plasticity off)");
   }
-  if (!(material.viscoplastic_relaxation >= 0.0 && material.viscoplastic_relaxation <= 1.0)) {
-    throw std::invalid_argument(where + "viscoplastic_relaxation must lie in [0, 1]");
+  if (!(material.viscoplastic_relaxation_time_s >= 0.0 &&
+        std::isfinite(material.viscoplastic_relaxation_time_s))) {
+    throw std::invalid_argument(where + "viscoplastic_relaxation_time_s must be >= 0 (0: rate-independent)");
   }
   if (!(material.friction_coefficient >= 0.0 && std::isfinite(material.friction_coefficient))) {
     throw std::invalid_argument(where + "friction_coefficient must be >= 0");

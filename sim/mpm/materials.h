@@ -13,8 +13,9 @@ struct Material {
   double poisson_ratio = 0.3;         // nu, in (-1, 0.5)
   double density_kg_m3 = 1000.0;      // rho
   double yield_stress_pa = 0.0;       // J2 yield stress sigma_y; 0 = no plasticity
-  double viscoplastic_relaxation = 0.0;  // 0 = rate-independent radial return; > 0: fraction of
-                                         // the overstress relaxed per step, in (0, 1]
+  // 0: rate-independent radial return; > 0: the overstress relaxes with this time constant
+  // (Perzyna-style: a fraction dt / (t + dt) of it returns each step).
+  double viscoplastic_relaxation_time_s = 0.0;
   double friction_coefficient = 0.5;  // Coulomb, knife and board against this food
   std::string source;                 // where the numbers come from
 

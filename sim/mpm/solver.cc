@@ -1,0 +1,701 @@
+#include "sim/mpm/solver.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "sim/mpm/constitutive.h"
+
+namespace culinarycut::mpm {
+namespace {
+
+constexpr int kBlockCells = 4;        // P2G block edge; same-colour blocks never share a node
+constexpr std::size_t kChunk = 4096;  // reductions sum fixed chunks in a fixed order
+constexpr double kContactStrengthScale = 0.35;  // c_norm = 0.35 dx / dt (paper)
+
+template <typename Real>
+using Vector3 = Eigen::Matrix<Real, 3, 1>;
+
+// Quadratic B-spline weights of the 3 nodes base, base+1, base+2 along one axis; `fx` is the
+// particle's position relative to node `base`, in cells (in [0.5, 1.5)).
+template <typename Real>
+inline void QuadraticWeights(Real fx, Real w[3]) {
+  w[0] = Real(0.5) * (Real(1.5) - fx) * (Real(1.5) - fx);
+  w[1] = Real(0.75) - (fx - Real(1)) * (fx - Real(1));
+  w[2] = Real(0.5) * (fx - Real(0.5)) * (fx - Real(0.5));
+}
+
+// Non-penetration and Coulomb friction of a node velocity against a collider moving at
+// `collider_velocity` with outward normal `normal` (paper: "decomposing relative velocity into
+// normal/tangential components"). Returns whether the node was approaching (and was changed).
+inline bool ResolveContact(const Eigen::Vector3d& normal, const Eigen::Vector3d& collider_velocity,
+                           double friction, bool use_friction, Eigen::Vector3d* velocity,
+                           double* approach_speed) {
+  const Eigen::Vector3d relative = *velocity - collider_velocity;
+  const double normal_speed = relative.dot(normal);
+  if (normal_speed >= 0.0) return false;
+  *approach_speed = -normal_speed;
+  Eigen::Vector3d tangential = relative - normal_speed * normal;
+  if (use_friction) {
+    const double slip = tangential.norm();
+    // Static friction holds the node when the tangential speed is within mu |v_n|.
+    if (slip <= -friction * normal_speed) {
+      tangential.setZero();
+    } else {
+      tangential *= 1.0 + friction * normal_speed / slip;
+    }
+  }
+  *velocity = collider_velocity + tangential;
+  return true;
+}
+
+// Sums of one grid-update chunk, reduced in chunk order so that totals do not depend on threads.
+struct GridTotals {
+  Eigen::Vector3d blade_impulse = Eigen::Vector3d::Zero();   // on the food, N s
+  Eigen::Vector3d handle_impulse = Eigen::Vector3d::Zero();
+  Eigen::Vector3d board_impulse = Eigen::Vector3d::Zero();
+  Eigen::Vector3d table_impulse = Eigen::Vector3d::Zero();
+  Eigen::Vector3d other_impulse = Eigen::Vector3d::Zero();   // gravity, damping, caps
+  double approach_speed_sum = 0.0;                           // over blade-contact nodes, m/s
+  std::int64_t speed_caps = 0;
+
+  void Add(const GridTotals& other) {
+    blade_impulse += other.blade_impulse;
+    handle_impulse += other.handle_impulse;
+    board_impulse += other.board_impulse;
+    table_impulse += other.table_impulse;
+    other_impulse += other.other_impulse;
+    approach_speed_sum += other.approach_speed_sum;
+    speed_caps += other.speed_caps;
+  }
+};
+
+struct ParticleTotals {
+  Eigen::Vector3d momentum = Eigen::Vector3d::Zero();
+  Eigen::Vector3d tip_impulse = Eigen::Vector3d::Zero();
+  double kinetic_energy = 0.0;
+  double elastic_energy = 0.0;
+  double j_min = std::numeric_limits<double>::infinity();
+  double j_max = -std::numeric_limits<double>::infinity();
+  std::int64_t j_clamps = 0;
+  std::int64_t speed_caps = 0;
+  std::int64_t damaged = 0;
+
+  void Add(const ParticleTotals& other) {
+    momentum += other.momentum;
+    tip_impulse += other.tip_impulse;
+    kinetic_energy += other.kinetic_energy;
+    elastic_energy += other.elastic_energy;
+    j_min = std::min(j_min, other.j_min);
+    j_max = std::max(j_max, other.j_max);
+    j_clamps += other.j_clamps;
+    speed_caps += other.speed_caps;
+    damaged += other.damaged;
+  }
+};
+
+template <typename Totals>
+Totals SumChunks(const std::vector<Totals>& chunks) {
+  Totals total;
+  for (const Totals& chunk : chunks) total.Add(chunk);
+  return total;
+}
+
+std::size_t ChunkCount(std::size_t n) { return (n + kChunk - 1) / kChunk; }
+
+}  // namespace
+
+// The bounded grid box: nodes (origin + (i, j, k)) * dx for i < dims.x() etc. Near the blade,
+// "split" nodes keep one layer per blade side (CPIC-style) so the sides never share momentum.
+template <typename Real>
+struct Solver<Real>::Grid {
+  Eigen::Vector3i origin = Eigen::Vector3i::Zero();  // global index of node (0, 0, 0)
+  Eigen::Vector3i dims = Eigen::Vector3i::Zero();
+  std::vector<Real> mass;
+  std::array<std::vector<Real>, 3> momentum;         // momentum after P2G, velocity after update
+  std::vector<std::int32_t> split_slot;              // -1, or this node's slot in the layers
+  std::vector<std::size_t> split_nodes;              // node index of each slot
+  std::array<std::vector<Real>, 2> layer_mass;       // [side: 0 negative, 1 positive][slot]
+  std::array<std::array<std::vector<Real>, 3>, 2> layer_momentum;
+
+  std::size_t size() const {
+    return static_cast<std::size_t>(dims.x()) * dims.y() * dims.z();
+  }
+  std::size_t Index(int i, int j, int k) const {
+    return (static_cast<std::size_t>(i) * dims.y() + j) * dims.z() + k;
+  }
+};
+
+template <typename Real>
+struct Solver<Real>::Workspace {
+  std::vector<std::uint32_t> order;          // particles sorted by P2G block
+  std::vector<std::uint32_t> block_start;    // offsets into `order`, one past the last block
+  std::array<std::vector<std::uint32_t>, 8> blocks_of_colour;
+  std::vector<GridTotals> grid_chunks;
+  std::vector<ParticleTotals> particle_chunks;
+};
+
+void ValidateSolverConfig(const SolverConfig& config) {
+  auto require = [](bool ok, const std::string& message) {
+    if (!ok) throw std::invalid_argument("solver config: " + message);
+  };
+  require(config.dx_m > 0.0 && std::isfinite(config.dx_m), "dx_m must be > 0");
+  require(config.cfl > 0.0 && config.cfl <= 1.0, "cfl must lie in (0, 1]");
+  require(config.max_dt_s > 0.0, "max_dt_s must be > 0");
+  require(config.j_min > 0.0 && config.j_min < 1.0 && config.j_max > 1.0,
+          "need 0 < j_min < 1 < j_max");
+  require(config.max_particle_speed_m_s > 0.0 && config.max_grid_speed_m_s > 0.0,
+          "speed caps must be > 0");
+  require(config.grid_damping_per_s >= 0.0, "grid_damping_per_s must be >= 0");
+  require(config.gravity_m_s2.allFinite(), "gravity must be finite");
+  require(config.grid_margin_cells >= 1, "grid_margin_cells must be >= 1");
+  require(config.threads >= 1, "threads must be >= 1");
+  const CuttingParameters& cutting = config.cutting;
+  require(cutting.band0_m > 0.0 && cutting.band_reference_dx_m > 0.0, "band0_m and "
+          "band_reference_dx_m must be > 0");
+  require(cutting.v_hat >= 0.0 && cutting.c_hat_min >= 0.0 && cutting.damage_rate_per_s >= 0.0,
+          "v_hat, c_hat_min and damage_rate_per_s must be >= 0");
+  require(cutting.k2_reference_per_s >= 0.0 && cutting.k2_reference_youngs_pa > 0.0 &&
+              cutting.k2_reference_yield_pa > 0.0,
+          "k2 parameters must be positive");
+  require(cutting.tip_acceleration_m_s2 >= 0.0 && cutting.tip_band_cells >= 0.0,
+          "tip force parameters must be >= 0");
+}
+
+template <typename Real>
+Solver<Real>::Solver(const SolverConfig& config, std::vector<Material> materials)
+    : config_(config),
+      materials_(std::move(materials)),
+      grid_(std::make_unique<Grid>()),
+      workspace_(std::make_unique<Workspace>()) {
+  ValidateSolverConfig(config_);
+  if (materials_.empty()) throw std::invalid_argument("solver: give at least one material");
+  for (const Material& material : materials_) ValidateMaterial(material);
+}
+
+template <typename Real>
+Solver<Real>::~Solver() = default;
+template <typename Real>
+Solver<Real>::Solver(Solver&&) noexcept = default;
+template <typename Real>
+Solver<Real>& Solver<Real>::operator=(Solver&&) noexcept = default;
+
+template <typename Real>
+void Solver<Real>::SetKnife(const KnifeGeometry& geometry) {
+  knife_ = std::make_unique<KnifeSdf>(geometry, config_.dx_m);
+}
+
+template <typename Real>
+void Solver<Real>::SetKnifeMotion(const RigidMotion& tcp_motion) {
+  if (!knife_) throw std::logic_error("SetKnifeMotion before SetKnife");
+  knife_->SetMotion(tcp_motion);
+}
+
+template <typename Real>
+void Solver<Real>::SetBoard(const Eigen::Vector3d& size_m, const RigidMotion& motion) {
+  board_.emplace(size_m, motion);
+}
+
+template <typename Real>
+void Solver<Real>::SetTable(double height_m) {
+  table_.emplace(height_m);
+}
+
+template <typename Real>
+double Solver<Real>::StableTimestep() const {
+  double fastest_m_s = 0.0;
+  for (const Material& material : materials_) {
+    fastest_m_s = std::max(fastest_m_s, material.dilatational_wave_speed_m_s());
+  }
+  return std::min(config_.max_dt_s, config_.cfl * config_.dx_m / fastest_m_s);
+}
+
+
+template <typename Real>
+SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
+  if (!(dt_s > 0.0 && std::isfinite(dt_s))) {
+    throw std::invalid_argument("Substep: dt_s must be a finite time > 0 s");
+  }
+  SubstepDiagnostics diagnostics;
+  diagnostics.dt_s = dt_s;
+  Particles<Real>& p = particles_;
+  const std::size_t n = p.size();
+  if (n == 0) return diagnostics;
+  Grid& grid = *grid_;
+  Workspace& work = *workspace_;
+  const Effects& effects = config_.effects;
+  const CuttingParameters& cutting = config_.cutting;
+  const int threads = config_.threads;
+  const double dx = config_.dx_m;
+  const Real dx_r = Real(dx);
+  const Real inv_dx = Real(1.0 / dx);
+  const Real dt = Real(dt_s);
+  const bool knife_on = knife_ != nullptr;
+  const bool split_on = knife_on && effects.two_sided_blade;
+  // Resolution-invariant cutting thresholds (paper): band and v_th rescale with dx and dt.
+  const double band_m =
+      cutting.band0_m * std::pow(cutting.band_reference_dx_m / dx, cutting.band_gamma);
+  const double v_threshold_m_s = (dx / dt_s) * cutting.v_hat;
+  const double blade_half_m = knife_on ? 0.5 * knife_->effective_thickness_m() : 0.0;
+  // Nodes this close to the blade's mid-plane, at or above the edge, are split by side; particles
+  // get a side label a little further out, so every particle touching a split node has one.
+  const double split_half_width_m = blade_half_m + 2.0 * dx;
+  const double label_half_width_m = blade_half_m + 3.5 * dx;
+
+  // --- Grid box around the particles (only the object's neighbourhood) ---------------------
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d high = -low;
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto [lo, hi] = std::minmax_element(p.position[axis].begin(), p.position[axis].end());
+    low[axis] = *lo;
+    high[axis] = *hi;
+  }
+  if (!low.allFinite() || !high.allFinite()) {
+    throw std::runtime_error("MPM particles left the finite range (NaN or Inf position)");
+  }
+  const int margin = config_.grid_margin_cells;
+  for (int axis = 0; axis < 3; ++axis) {
+    grid.origin[axis] = static_cast<int>(std::floor(low[axis] / dx)) - margin;
+    grid.dims[axis] = static_cast<int>(std::floor(high[axis] / dx)) + margin + 3 - grid.origin[axis];
+  }
+  diagnostics.grid_cells = grid.dims;
+  const std::size_t nodes = grid.size();
+  grid.mass.assign(nodes, Real(0));
+  for (auto& component : grid.momentum) component.assign(nodes, Real(0));
+  auto node_position = [&](int i, int j, int k) {
+    return Eigen::Vector3d((grid.origin.x() + i) * dx, (grid.origin.y() + j) * dx,
+                           (grid.origin.z() + k) * dx);
+  };
+
+  // --- Split nodes and side labels near the blade (CPIC) -----------------------------------
+  grid.split_slot.assign(split_on ? nodes : 0, -1);
+  grid.split_nodes.clear();
+  if (split_on) {
+    const Eigen::AlignedBox3d region = knife_->BladeBounds(split_half_width_m + dx);
+    Eigen::Vector3i lo, hi;
+    for (int axis = 0; axis < 3; ++axis) {
+      lo[axis] = std::max(0, static_cast<int>(std::floor(region.min()[axis] / dx)) - grid.origin[axis]);
+      hi[axis] = std::min(grid.dims[axis] - 1,
+                          static_cast<int>(std::ceil(region.max()[axis] / dx)) - grid.origin[axis]);
+    }
+    for (int i = lo.x(); i <= hi.x(); ++i) {
+      for (int j = lo.y(); j <= hi.y(); ++j) {
+        for (int k = lo.z(); k <= hi.z(); ++k) {
+          const Eigen::Vector3d x = node_position(i, j, k);
+          if (std::abs(knife_->SideOfBlade(x)) < split_half_width_m &&
+              knife_->WithinBladeLength(x) && knife_->HeightAboveEdge(x) >= -0.5 * dx) {
+            const std::size_t index = grid.Index(i, j, k);
+            grid.split_slot[index] = static_cast<std::int32_t>(grid.split_nodes.size());
+            grid.split_nodes.push_back(index);
+          }
+        }
+      }
+    }
+    const std::size_t slots = grid.split_nodes.size();
+    for (int side = 0; side < 2; ++side) {
+      grid.layer_mass[side].assign(slots, Real(0));
+      for (auto& component : grid.layer_momentum[side]) component.assign(slots, Real(0));
+    }
+    // Labels hold while a particle is near the blade and are dropped once it is clear of it, so
+    // the next cut labels afresh.
+    const Eigen::AlignedBox3d label_region = knife_->BladeBounds(label_half_width_m + dx);
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (std::int64_t q = 0; q < static_cast<std::int64_t>(n); ++q) {
+      const Eigen::Vector3d x(p.position[0][q], p.position[1][q], p.position[2][q]);
+      const bool near = label_region.contains(x) && knife_->WithinBladeLength(x) &&
+                        knife_->HeightAboveEdge(x) >= -2.0 * dx &&
+                        std::abs(knife_->SideOfBlade(x)) < label_half_width_m;
+      if (!near) {
+        p.blade_side[q] = static_cast<std::int8_t>(BladeSide::kUnassigned);
+      } else if (p.blade_side[q] == static_cast<std::int8_t>(BladeSide::kUnassigned)) {
+        p.blade_side[q] = static_cast<std::int8_t>(
+            knife_->SideOfBlade(x) >= 0.0 ? BladeSide::kPositive : BladeSide::kNegative);
+      }
+    }
+  } else {
+    std::fill(p.blade_side.begin(), p.blade_side.end(), std::int8_t(0));
+  }
+
+  // --- Sort particles by P2G block (stable counting sort: deterministic order) -------------
+  const Eigen::Vector3i blocks = (grid.dims.array() + kBlockCells - 1) / kBlockCells;
+  const std::size_t block_count = static_cast<std::size_t>(blocks.x()) * blocks.y() * blocks.z();
+  std::vector<std::uint32_t> block_of(n);
+  auto base_cell = [&](std::size_t q, int axis) {
+    return static_cast<int>(std::floor(p.position[axis][q] * inv_dx - Real(0.5))) - grid.origin[axis];
+  };
+  for (std::size_t q = 0; q < n; ++q) {
+    const int bx = base_cell(q, 0) / kBlockCells;
+    const int by = base_cell(q, 1) / kBlockCells;
+    const int bz = base_cell(q, 2) / kBlockCells;
+    block_of[q] = static_cast<std::uint32_t>((static_cast<std::size_t>(bx) * blocks.y() + by) *
+                                                 blocks.z() + bz);
+  }
+  work.block_start.assign(block_count + 1, 0);
+  for (std::size_t q = 0; q < n; ++q) ++work.block_start[block_of[q] + 1];
+  for (std::size_t b = 0; b < block_count; ++b) work.block_start[b + 1] += work.block_start[b];
+  work.order.resize(n);
+  {
+    std::vector<std::uint32_t> fill(work.block_start.begin(), work.block_start.end() - 1);
+    for (std::size_t q = 0; q < n; ++q) work.order[fill[block_of[q]]++] = static_cast<std::uint32_t>(q);
+  }
+  for (auto& list : work.blocks_of_colour) list.clear();
+  for (std::size_t b = 0; b < block_count; ++b) {
+    if (work.block_start[b] == work.block_start[b + 1]) continue;
+    const int bz = static_cast<int>(b % blocks.z());
+    const int by = static_cast<int>((b / blocks.z()) % blocks.y());
+    const int bx = static_cast<int>(b / (static_cast<std::size_t>(blocks.y()) * blocks.z()));
+    work.blocks_of_colour[(bx & 1) | ((by & 1) << 1) | ((bz & 1) << 2)].push_back(
+        static_cast<std::uint32_t>(b));
+  }
+
+  // Momentum before the step, for the momentum check.
+  Eigen::Vector3d momentum_before = Eigen::Vector3d::Zero();
+  double total_mass_kg = 0.0;
+  for (std::size_t q = 0; q < n; ++q) {
+    total_mass_kg += p.mass[q];
+    for (int axis = 0; axis < 3; ++axis) momentum_before[axis] += double(p.mass[q]) * p.velocity[axis][q];
+  }
+
+  // --- P2G: stress (plastic return, damaged corotated), mass and APIC momentum to the grid --
+  std::vector<double> elastic_energy_of_block(block_count, 0.0);
+  const Real stress_scale = -dt * Real(4) * inv_dx * inv_dx;
+  for (int colour = 0; colour < 8; ++colour) {
+    const auto& colour_blocks = work.blocks_of_colour[colour];
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+    for (std::int64_t b = 0; b < static_cast<std::int64_t>(colour_blocks.size()); ++b) {
+      const std::uint32_t block = colour_blocks[b];
+      double block_energy = 0.0;
+      for (std::uint32_t s = work.block_start[block]; s < work.block_start[block + 1]; ++s) {
+        const std::uint32_t q = work.order[s];
+        Matrix3<Real> F;
+        for (int k = 0; k < 9; ++k) F(k / 3, k % 3) = p.F[k][q];
+        const Material& material = materials_[p.material[q]];
+        const Real damage_scale = Real(1) - p.damage[q];
+        const Lame<Real> lame{Real(material.shear_modulus_pa()) * damage_scale,
+                              Real(material.lame_lambda_pa()) * damage_scale};
+        const Matrix3<Real> R = PolarRotation(F);
+        if (effects.plasticity && material.yield_stress_pa > 0.0) {
+          const Real fraction =
+              material.viscoplastic_relaxation_time_s > 0.0
+                  ? Real(dt_s / (material.viscoplastic_relaxation_time_s + dt_s))
+                  : Real(1);
+          const Real plastic = ReturnToYieldSurface(&F, R, Real(material.yield_stress_pa),
+                                                    Real(material.shear_modulus_pa()), fraction);
+          if (plastic > Real(0)) {
+            p.plastic_strain[q] += plastic;
+            for (int k = 0; k < 9; ++k) p.F[k][q] = F(k / 3, k % 3);
+          }
+        }
+        const Real J = F.determinant();
+        const Matrix3<Real> tau = CorotatedKirchhoffStress(F, R, J, lame);
+        block_energy += double(p.volume[q]) * CorotatedEnergyDensity(F, R, J, lame);
+        Matrix3<Real> C;
+        for (int k = 0; k < 9; ++k) C(k / 3, k % 3) = p.C[k][q];
+        const Real m = p.mass[q];
+        const Matrix3<Real> affine = stress_scale * p.volume[q] * tau + m * C;
+        const Vector3<Real> momentum(m * p.velocity[0][q], m * p.velocity[1][q], m * p.velocity[2][q]);
+
+        int base[3];
+        Real fx[3], w[3][3];
+        for (int axis = 0; axis < 3; ++axis) {
+          const Real xg = p.position[axis][q] * inv_dx - Real(grid.origin[axis]);
+          base[axis] = static_cast<int>(std::floor(xg - Real(0.5)));
+          fx[axis] = xg - Real(base[axis]);
+          QuadraticWeights(fx[axis], w[axis]);
+        }
+        const int side = p.blade_side[q] > 0 ? 1 : 0;
+        for (int i = 0; i < 3; ++i) {
+          for (int j = 0; j < 3; ++j) {
+            for (int k = 0; k < 3; ++k) {
+              const Real weight = w[0][i] * w[1][j] * w[2][k];
+              const Vector3<Real> offset_m((Real(i) - fx[0]) * dx_r, (Real(j) - fx[1]) * dx_r,
+                                           (Real(k) - fx[2]) * dx_r);
+              const Vector3<Real> contribution = weight * (momentum + affine * offset_m);
+              const std::size_t node = grid.Index(base[0] + i, base[1] + j, base[2] + k);
+              const std::int32_t slot = split_on ? grid.split_slot[node] : -1;
+              if (slot >= 0) {
+                grid.layer_mass[side][slot] += weight * m;
+                for (int a = 0; a < 3; ++a) grid.layer_momentum[side][a][slot] += contribution[a];
+              } else {
+                grid.mass[node] += weight * m;
+                for (int a = 0; a < 3; ++a) grid.momentum[a][node] += contribution[a];
+              }
+            }
+          }
+        }
+      }
+      elastic_energy_of_block[block] = block_energy;
+    }
+  }
+
+  // --- Grid update: velocity, gravity, damping, colliders; impulses for the force -----------
+  const double friction = materials_.front().friction_coefficient;
+  const bool use_friction = effects.friction;
+  const Eigen::AlignedBox3d blade_box =
+      knife_on ? knife_->BladeBounds(dx) : Eigen::AlignedBox3d();
+  const Eigen::AlignedBox3d handle_box =
+      knife_on ? knife_->HandleBounds(dx) : Eigen::AlignedBox3d();
+  const Eigen::AlignedBox3d board_box = board_ ? board_->Bounds(dx) : Eigen::AlignedBox3d();
+  const double damping = 1.0 / (1.0 + config_.grid_damping_per_s * dt_s);
+  const Eigen::Vector3d blade_normal =
+      knife_on ? Eigen::Vector3d(knife_->motion().pose.linear().col(1)) : Eigen::Vector3d::UnitY();
+
+  // Updates one node's velocity in place from its mass and momentum; `side` >= 0 for a layer of a
+  // split node, whose blade is a wall at the blade face on that side.
+  auto update_node = [&](const Eigen::Vector3d& x, Real node_mass, Real* mx, Real* my, Real* mz,
+                         int side, GridTotals* totals) {
+    if (node_mass <= Real(0)) return;
+    const double m = node_mass;
+    Eigen::Vector3d v(*mx / node_mass, *my / node_mass, *mz / node_mass);
+    const Eigen::Vector3d v_start = v;
+    v = (v + dt_s * config_.gravity_m_s2) * damping;
+    double approach = 0.0;
+    if (board_ && board_box.contains(x)) {
+      const SdfSample sample = board_->Sample(x);
+      if (sample.distance_m < 0.0) {
+        const Eigen::Vector3d before = v;
+        if (ResolveContact(sample.normal, board_->motion().VelocityAt(x), friction, use_friction,
+                           &v, &approach)) {
+          totals->board_impulse += m * (v - before);
+        }
+      }
+    }
+    if (table_ && x.z() <= table_->height_m()) {
+      const Eigen::Vector3d before = v;
+      if (ResolveContact(Eigen::Vector3d::UnitZ(), Eigen::Vector3d::Zero(), friction, use_friction,
+                         &v, &approach)) {
+        totals->table_impulse += m * (v - before);
+      }
+    }
+    if (knife_on) {
+      if (side >= 0) {
+        // The blade face on this side: material of this side may not move through it.
+        const double sign = side == 1 ? 1.0 : -1.0;
+        if (sign * knife_->SideOfBlade(x) < blade_half_m + 0.5 * dx) {
+          const Eigen::Vector3d before = v;
+          if (ResolveContact(sign * blade_normal, knife_->motion().VelocityAt(x), friction,
+                             use_friction, &v, &approach)) {
+            totals->blade_impulse += m * (v - before);
+          }
+        }
+      } else if (blade_box.contains(x)) {
+        const SdfSample sample = knife_->Blade(x);
+        if (sample.distance_m < 0.0) {
+          const Eigen::Vector3d before = v;
+          if (ResolveContact(sample.normal, knife_->motion().VelocityAt(x), friction, use_friction,
+                             &v, &approach)) {
+            totals->blade_impulse += m * (v - before);
+            totals->approach_speed_sum += approach;
+          }
+        }
+      }
+      if (handle_box.contains(x)) {
+        const SdfSample sample = knife_->Handle(x);
+        if (sample.distance_m < 0.0) {
+          const Eigen::Vector3d before = v;
+          if (ResolveContact(sample.normal, knife_->motion().VelocityAt(x), friction, use_friction,
+                             &v, &approach)) {
+            totals->handle_impulse += m * (v - before);
+          }
+        }
+      }
+    }
+    const double speed = v.norm();
+    if (speed > config_.max_grid_speed_m_s) {
+      v *= config_.max_grid_speed_m_s / speed;
+      ++totals->speed_caps;
+    }
+    // Everything that is not a collider impulse: gravity, damping, the speed cap.
+    totals->other_impulse += m * (v - v_start);
+    *mx = Real(v.x());
+    *my = Real(v.y());
+    *mz = Real(v.z());
+  };
+
+  const std::size_t node_chunks = ChunkCount(nodes);
+  work.grid_chunks.assign(node_chunks, GridTotals{});
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (std::int64_t c = 0; c < static_cast<std::int64_t>(node_chunks); ++c) {
+    GridTotals& totals = work.grid_chunks[c];
+    const std::size_t end = std::min(nodes, (c + 1) * kChunk);
+    for (std::size_t node = c * kChunk; node < end; ++node) {
+      const int k = static_cast<int>(node % grid.dims.z());
+      const int j = static_cast<int>((node / grid.dims.z()) % grid.dims.y());
+      const int i = static_cast<int>(node / (static_cast<std::size_t>(grid.dims.y()) * grid.dims.z()));
+      const Eigen::Vector3d x = node_position(i, j, k);
+      update_node(x, grid.mass[node], &grid.momentum[0][node], &grid.momentum[1][node],
+                  &grid.momentum[2][node], -1, &totals);
+      const std::int32_t slot = split_on ? grid.split_slot[node] : -1;
+      if (slot >= 0) {
+        for (int side = 0; side < 2; ++side) {
+          update_node(x, grid.layer_mass[side][slot], &grid.layer_momentum[side][0][slot],
+                      &grid.layer_momentum[side][1][slot], &grid.layer_momentum[side][2][slot], side,
+                      &totals);
+        }
+      }
+    }
+  }
+  const GridTotals grid_totals = SumChunks(work.grid_chunks);
+  const double c_norm = kContactStrengthScale * dx / dt_s;
+  const double c_hat = knife_on ? std::min(1.0, grid_totals.approach_speed_sum / c_norm) : 0.0;
+  const Eigen::Vector3d knife_velocity =
+      knife_on ? knife_->motion().linear_velocity_m_s : Eigen::Vector3d::Zero();
+  // Damage needs the edge moving edge-first into the food (a downward stroke).
+  const bool downward_stroke =
+      knife_on && knife_velocity.dot(knife_->motion().pose.linear().col(2)) > 0.0;
+  const bool damage_gate =
+      knife_on && effects.damage && c_hat >= cutting.c_hat_min && downward_stroke;
+  const bool tip_on = knife_on && cutting.tip_acceleration_m_s2 > 0.0;
+  const Eigen::AlignedBox3d damage_box = knife_on ? knife_->BladeBounds(band_m) : Eigen::AlignedBox3d();
+
+  // --- G2P: velocity and affine field back, F update with J clamp, damage, tip force --------
+  const std::size_t particle_chunks = ChunkCount(n);
+  work.particle_chunks.assign(particle_chunks, ParticleTotals{});
+  const Real c_scale = Real(4) * inv_dx * inv_dx;
+  const Real j_min = Real(config_.j_min);
+  const Real j_max = Real(config_.j_max);
+  const Real max_speed = Real(config_.max_particle_speed_m_s);
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (std::int64_t c = 0; c < static_cast<std::int64_t>(particle_chunks); ++c) {
+    ParticleTotals& totals = work.particle_chunks[c];
+    const std::size_t end = std::min(n, (c + 1) * kChunk);
+    for (std::size_t s = c * kChunk; s < end; ++s) {
+      const std::uint32_t q = work.order[s];
+      int base[3];
+      Real fx[3], w[3][3];
+      for (int axis = 0; axis < 3; ++axis) {
+        const Real xg = p.position[axis][q] * inv_dx - Real(grid.origin[axis]);
+        base[axis] = static_cast<int>(std::floor(xg - Real(0.5)));
+        fx[axis] = xg - Real(base[axis]);
+        QuadraticWeights(fx[axis], w[axis]);
+      }
+      const int side = p.blade_side[q] > 0 ? 1 : 0;
+      Vector3<Real> v = Vector3<Real>::Zero();
+      Matrix3<Real> B = Matrix3<Real>::Zero();
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+          for (int k = 0; k < 3; ++k) {
+            const Real weight = w[0][i] * w[1][j] * w[2][k];
+            const std::size_t node = grid.Index(base[0] + i, base[1] + j, base[2] + k);
+            const std::int32_t slot = split_on ? grid.split_slot[node] : -1;
+            Vector3<Real> node_v;
+            if (slot >= 0) {
+              node_v = Vector3<Real>(grid.layer_momentum[side][0][slot],
+                                     grid.layer_momentum[side][1][slot],
+                                     grid.layer_momentum[side][2][slot]);
+            } else {
+              node_v = Vector3<Real>(grid.momentum[0][node], grid.momentum[1][node],
+                                     grid.momentum[2][node]);
+            }
+            const Vector3<Real> offset_m((Real(i) - fx[0]) * dx_r, (Real(j) - fx[1]) * dx_r,
+                                         (Real(k) - fx[2]) * dx_r);
+            v += weight * node_v;
+            B += weight * node_v * offset_m.transpose();
+          }
+        }
+      }
+      const Matrix3<Real> C = c_scale * B;
+      const Eigen::Vector3d x(p.position[0][q], p.position[1][q], p.position[2][q]);
+
+      // Damage where the edge presses into the food fast enough (paper: gated by c-hat, the
+      // approach speed and the stroke direction, inside the blade band).
+      if (damage_gate && p.damage[q] < Real(1) && damage_box.contains(x)) {
+        const SdfSample sample = knife_->Blade(x);
+        if (std::abs(sample.distance_m) < band_m) {
+          const Eigen::Vector3d relative = v.template cast<double>() - knife_->motion().VelocityAt(x);
+          if (relative.dot(sample.normal) <= -v_threshold_m_s) {
+            p.damage[q] = std::min(Real(1), p.damage[q] + Real(cutting.damage_rate_per_s * dt_s));
+            ++totals.damaged;
+          }
+        }
+      }
+      // Tip force: push labelled particles near the edge away from the blade plane.
+      if (tip_on && p.blade_side[q] != 0 && damage_box.contains(x) &&
+          std::abs(knife_->HeightAboveEdge(x)) < cutting.tip_band_cells * dx &&
+          knife_->WithinBladeLength(x)) {
+        const Eigen::Vector3d push =
+            (p.blade_side[q] > 0 ? 1.0 : -1.0) * cutting.tip_acceleration_m_s2 * dt_s * blade_normal;
+        v += push.cast<Real>();
+        totals.tip_impulse += double(p.mass[q]) * push;
+      }
+      const Real speed = v.norm();
+      if (speed > max_speed) {
+        v *= max_speed / speed;
+        ++totals.speed_caps;
+      }
+      for (int axis = 0; axis < 3; ++axis) {
+        p.velocity[axis][q] = v[axis];
+        p.position[axis][q] += dt * v[axis];
+      }
+      for (int k = 0; k < 9; ++k) p.C[k][q] = C(k / 3, k % 3);
+
+      // F <- (I + dt C) F (paper eq. Fupdate), then J clamped isotropically to [j_min, j_max].
+      Matrix3<Real> F;
+      for (int k = 0; k < 9; ++k) F(k / 3, k % 3) = p.F[k][q];
+      F = (Matrix3<Real>::Identity() + dt * C) * F;
+      Real J = F.determinant();
+      if (!(J >= j_min && J <= j_max)) {
+        const Real target = std::isfinite(J) && J > Real(0) ? std::clamp(J, j_min, j_max) : Real(1);
+        F = std::isfinite(J) && J > Real(0) ? Matrix3<Real>(F * std::cbrt(target / J))
+                                             : Matrix3<Real>::Identity();
+        J = target;
+        ++totals.j_clamps;
+      }
+      for (int k = 0; k < 9; ++k) p.F[k][q] = F(k / 3, k % 3);
+      totals.j_min = std::min(totals.j_min, double(J));
+      totals.j_max = std::max(totals.j_max, double(J));
+      const double m = p.mass[q];
+      for (int axis = 0; axis < 3; ++axis) totals.momentum[axis] += m * v[axis];
+      totals.kinetic_energy += 0.5 * m * double(v.squaredNorm());
+    }
+  }
+  ParticleTotals particle_totals = SumChunks(work.particle_chunks);
+  for (double energy : elastic_energy_of_block) particle_totals.elastic_energy += energy;
+
+  // --- Diagnostics ---------------------------------------------------------------------------
+  diagnostics.j_min = particle_totals.j_min;
+  diagnostics.j_max = particle_totals.j_max;
+  diagnostics.j_clamps = particle_totals.j_clamps;
+  diagnostics.speed_caps = particle_totals.speed_caps + grid_totals.speed_caps;
+  diagnostics.damaged_particles = particle_totals.damaged;
+  diagnostics.kinetic_energy_j = particle_totals.kinetic_energy;
+  diagnostics.elastic_energy_j = particle_totals.elastic_energy;
+  diagnostics.c_hat = c_hat;
+  diagnostics.knife_velocity_m_s = knife_velocity;
+  if (effects.force_sensing) {
+    // The food pushes each collider with minus the impulse the collider gave it (paper eq. force).
+    diagnostics.force_on_blade_n = -grid_totals.blade_impulse / dt_s;
+    diagnostics.force_on_handle_n = -grid_totals.handle_impulse / dt_s;
+    diagnostics.force_on_board_n = -grid_totals.board_impulse / dt_s;
+    diagnostics.force_on_table_n = -grid_totals.table_impulse / dt_s;
+    const Eigen::Vector3d collider_impulse = grid_totals.blade_impulse + grid_totals.handle_impulse +
+                                             grid_totals.board_impulse + grid_totals.table_impulse;
+    diagnostics.momentum_change_n_s = particle_totals.momentum - momentum_before;
+    diagnostics.external_impulse_n_s =
+        collider_impulse + grid_totals.other_impulse + particle_totals.tip_impulse;
+    const double scale = std::max(collider_impulse.norm(), 1e-12);
+    diagnostics.momentum_residual =
+        collider_impulse.norm() > 0.0
+            ? (diagnostics.momentum_change_n_s - diagnostics.external_impulse_n_s).norm() / scale
+            : 0.0;
+  }
+  // Quadratic speed resistance (paper): u <- u / (1 + k2 c-hat u dt) with u = 1 the current speed;
+  // k2 grows with the material's stiffness and strength.
+  if (knife_on && c_hat > 0.0) {
+    const Material& material = materials_.front();
+    const double k2 = cutting.k2_reference_per_s *
+                      (material.youngs_modulus_pa / cutting.k2_reference_youngs_pa) *
+                      (1.0 + material.yield_stress_pa / cutting.k2_reference_yield_pa);
+    diagnostics.knife_speed_factor = 1.0 / (1.0 + k2 * c_hat * dt_s);
+  }
+  (void)total_mass_kg;
+  return diagnostics;
+}
+
+template class Solver<float>;
+template class Solver<double>;
+
+}  // namespace culinarycut::mpm

@@ -1,0 +1,54 @@
+// Every number the MLS-MPM cutting solver uses, with units and defaults (Drake-style plain
+// config). The effects are switchable; a switched-off effect's code does not run.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace culinarycut::mpm {
+
+struct Effects {
+  bool plasticity = true;        // J2 radial return (materials with yield_stress_pa > 0)
+  bool damage = true;            // damage growth in the blade band (fracture)
+  bool friction = true;          // Coulomb friction at knife, board and table; off: frictionless
+  bool two_sided_blade = true;   // CPIC-style per-side grid near the blade: no leaking through it
+  bool force_sensing = true;     // impulse -> force on blade, handle and board; momentum check
+};
+
+struct CuttingParameters {
+  // Damage band half-width around the blade: band = band0 (dx_ref / dx)^gamma (paper). With the
+  // default gamma = -1 the band is a fixed number of cells (1.5 dx).
+  double band0_m = 0.006;
+  double band_reference_dx_m = 0.004;
+  double band_gamma = -1.0;
+  // Approach-speed threshold v_th = (dx / dt) v_hat (paper); at the CFL step dx/dt is a multiple
+  // of the wave speed, so v_th does not change with resolution.
+  double v_hat = 2e-5;
+  double c_hat_min = 0.01;          // damage grows only when the contact strength c-hat >= this
+  double damage_rate_per_s = 60.0;  // D grows by this times dt per substep while gated on
+  // Quadratic speed resistance u <- u / (1 + k2 c-hat u dt), k2 = k2_0 (E / E_ref)(1 + sy / sy_ref).
+  double k2_reference_per_s = 50.0;
+  double k2_reference_youngs_pa = 1e6;
+  double k2_reference_yield_pa = 1e5;
+  // Tip force: a small acceleration pushing particles near the edge away from the blade plane,
+  // to separate the sides and damp stick-slip (paper: "a small tip force"). 0 turns it off.
+  double tip_acceleration_m_s2 = 2.0;
+  double tip_band_cells = 1.0;      // how close to the edge (in dx) the tip force acts
+};
+
+struct SolverConfig {
+  double dx_m = 0.004;                  // grid spacing
+  double cfl = 0.2;                     // dt <= cfl dx / c (paper: 0.2)
+  double max_dt_s = 1e-3;               // upper bound even for very soft materials
+  double j_min = 0.6;                   // J clamped to [j_min, j_max], isotropically
+  double j_max = 1.6;
+  double max_particle_speed_m_s = 20.0; // speed caps (counted in the diagnostics)
+  double max_grid_speed_m_s = 20.0;
+  double grid_damping_per_s = 0.0;      // mild velocity damping on the grid (0 = none)
+  Eigen::Vector3d gravity_m_s2{0.0, 0.0, -9.81};
+  int grid_margin_cells = 3;            // empty cells around the particles' bounding box
+  int threads = 1;                      // OpenMP threads; results do not depend on it
+  Effects effects;
+  CuttingParameters cutting;
+};
+
+}  // namespace culinarycut::mpm
