@@ -34,7 +34,7 @@ struct KnifeGeometry {
   double blade_thickness_m = 0.002; // along y, at the spine
   double bevel_height_m = 0.008;    // the bottom part that tapers to a sharp edge
   // SDF thickness is at least this many grid cells (thin colliders leak: physics.md).
-  double min_thickness_cells = 1.5;
+  double min_thickness_cells = 1.0;
   Eigen::Vector3d handle_size_m{0.11, 0.02, 0.025};        // box behind the heel
   Eigen::Vector3d handle_center_in_tcp_m{-0.155, 0.0, -0.03};
 };

@@ -15,6 +15,12 @@ namespace {
 constexpr int kBlockCells = 4;        // P2G block edge; same-colour blocks never share a node
 constexpr std::size_t kChunk = 4096;  // reductions sum fixed chunks in a fixed order
 constexpr double kContactStrengthScale = 0.35;  // c_norm = 0.35 dx / dt (paper)
+// Grid nodes feel the blade within half a cell of its surface: a thin, sharp edge between two
+// node layers would otherwise never touch them, and the edge could not press on the food.
+constexpr double kBladeContactOffsetCells = 0.5;
+// Nodes split by side only once the edge is this far below them; the edge itself presses on
+// unsplit nodes, which is where cutting resistance and damage come from.
+constexpr double kSplitAboveEdgeCells = 0.5;
 
 template <typename Real>
 using Vector3 = Eigen::Matrix<Real, 3, 1>;
@@ -156,8 +162,8 @@ void ValidateSolverConfig(const SolverConfig& config) {
   const CuttingParameters& cutting = config.cutting;
   require(cutting.band0_m > 0.0 && cutting.band_reference_dx_m > 0.0, "band0_m and "
           "band_reference_dx_m must be > 0");
-  require(cutting.v_hat >= 0.0 && cutting.c_hat_min >= 0.0 && cutting.damage_rate_per_s >= 0.0,
-          "v_hat, c_hat_min and damage_rate_per_s must be >= 0");
+  require(cutting.v_hat >= 0.0 && cutting.c_hat_min >= 0.0 && cutting.damage_per_band >= 0.0,
+          "v_hat, c_hat_min and damage_per_band must be >= 0");
   require(cutting.k2_reference_per_s >= 0.0 && cutting.k2_reference_youngs_pa > 0.0 &&
               cutting.k2_reference_yield_pa > 0.0,
           "k2 parameters must be positive");
@@ -286,7 +292,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
         for (int k = lo.z(); k <= hi.z(); ++k) {
           const Eigen::Vector3d x = node_position(i, j, k);
           if (std::abs(knife_->SideOfBlade(x)) < split_half_width_m &&
-              knife_->WithinBladeLength(x) && knife_->HeightAboveEdge(x) >= -0.5 * dx) {
+              knife_->WithinBladeLength(x) && knife_->HeightAboveEdge(x) >= kSplitAboveEdgeCells * dx) {
             const std::size_t index = grid.Index(i, j, k);
             grid.split_slot[index] = static_cast<std::int32_t>(grid.split_nodes.size());
             grid.split_nodes.push_back(index);
@@ -299,8 +305,9 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
       grid.layer_mass[side].assign(slots, Real(0));
       for (auto& component : grid.layer_momentum[side]) component.assign(slots, Real(0));
     }
-    // Labels hold while a particle is near the blade and are dropped once it is clear of it, so
-    // the next cut labels afresh.
+    // A particle near the blade takes the side it is on, and keeps it once the edge has passed it
+    // (from then on the blade stands between the sides); labels are dropped once it is clear of
+    // the blade, so the next cut labels afresh.
     const Eigen::AlignedBox3d label_region = knife_->BladeBounds(label_half_width_m + dx);
 #pragma omp parallel for num_threads(threads) schedule(static)
     for (std::int64_t q = 0; q < static_cast<std::int64_t>(n); ++q) {
@@ -310,7 +317,8 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
                         std::abs(knife_->SideOfBlade(x)) < label_half_width_m;
       if (!near) {
         p.blade_side[q] = static_cast<std::int8_t>(BladeSide::kUnassigned);
-      } else if (p.blade_side[q] == static_cast<std::int8_t>(BladeSide::kUnassigned)) {
+      } else if (p.blade_side[q] == static_cast<std::int8_t>(BladeSide::kUnassigned) ||
+                 knife_->HeightAboveEdge(x) < 0.0) {
         p.blade_side[q] = static_cast<std::int8_t>(
             knife_->SideOfBlade(x) >= 0.0 ? BladeSide::kPositive : BladeSide::kNegative);
       }
@@ -451,6 +459,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     const double m = node_mass;
     Eigen::Vector3d v(*mx / node_mass, *my / node_mass, *mz / node_mass);
     const Eigen::Vector3d v_start = v;
+    const GridTotals colliders_before = *totals;
     v = (v + dt_s * config_.gravity_m_s2) * damping;
     double approach = 0.0;
     if (board_ && board_box.contains(x)) {
@@ -474,7 +483,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
       if (side >= 0) {
         // The blade face on this side: material of this side may not move through it.
         const double sign = side == 1 ? 1.0 : -1.0;
-        if (sign * knife_->SideOfBlade(x) < blade_half_m + 0.5 * dx) {
+        if (sign * knife_->SideOfBlade(x) < blade_half_m + kBladeContactOffsetCells * dx) {
           const Eigen::Vector3d before = v;
           if (ResolveContact(sign * blade_normal, knife_->motion().VelocityAt(x), friction,
                              use_friction, &v, &approach)) {
@@ -483,7 +492,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
         }
       } else if (blade_box.contains(x)) {
         const SdfSample sample = knife_->Blade(x);
-        if (sample.distance_m < 0.0) {
+        if (sample.distance_m < kBladeContactOffsetCells * dx) {
           const Eigen::Vector3d before = v;
           if (ResolveContact(sample.normal, knife_->motion().VelocityAt(x), friction, use_friction,
                              &v, &approach)) {
@@ -509,7 +518,12 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
       ++totals->speed_caps;
     }
     // Everything that is not a collider impulse: gravity, damping, the speed cap.
-    totals->other_impulse += m * (v - v_start);
+    const Eigen::Vector3d collider_change =
+        (totals->blade_impulse - colliders_before.blade_impulse) +
+        (totals->handle_impulse - colliders_before.handle_impulse) +
+        (totals->board_impulse - colliders_before.board_impulse) +
+        (totals->table_impulse - colliders_before.table_impulse);
+    totals->other_impulse += m * (v - v_start) - collider_change;
     *mx = Real(v.x());
     *my = Real(v.y());
     *mz = Real(v.z());
@@ -602,12 +616,16 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
 
       // Damage where the edge presses into the food fast enough (paper: gated by c-hat, the
       // approach speed and the stroke direction, inside the blade band).
-      if (damage_gate && p.damage[q] < Real(1) && damage_box.contains(x)) {
+      if (damage_gate && p.damage[q] < Real(1) && damage_box.contains(x) &&
+          knife_->HeightAboveEdge(x) < band_m) {
+        // Only at the edge: the flat faces push the cut sides apart but do not cut them.
         const SdfSample sample = knife_->Blade(x);
         if (std::abs(sample.distance_m) < band_m) {
           const Eigen::Vector3d relative = v.template cast<double>() - knife_->motion().VelocityAt(x);
-          if (relative.dot(sample.normal) <= -v_threshold_m_s) {
-            p.damage[q] = std::min(Real(1), p.damage[q] + Real(cutting.damage_rate_per_s * dt_s));
+          const double normal_speed = relative.dot(sample.normal);
+          if (normal_speed <= -v_threshold_m_s) {
+            const double increment = cutting.damage_per_band * (-normal_speed * dt_s) / band_m;
+            p.damage[q] = std::min(Real(1), p.damage[q] + Real(increment));
             ++totals.damaged;
           }
         }

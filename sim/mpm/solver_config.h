@@ -15,16 +15,20 @@ struct Effects {
 };
 
 struct CuttingParameters {
-  // Damage band half-width around the blade: band = band0 (dx_ref / dx)^gamma (paper). With the
-  // default gamma = -1 the band is a fixed number of cells (1.5 dx).
-  double band0_m = 0.006;
+  // Damage band half-width around the blade's edge: band = band0 (dx_ref / dx)^gamma (paper). With
+  // the default gamma = -1 the band is a fixed number of cells (0.5 dx): narrow enough that the
+  // cut leaves a gap of about one cell, wide enough that no particle slips past the edge intact.
+  double band0_m = 0.002;
   double band_reference_dx_m = 0.004;
   double band_gamma = -1.0;
   // Approach-speed threshold v_th = (dx / dt) v_hat (paper); at the CFL step dx/dt is a multiple
   // of the wave speed, so v_th does not change with resolution.
   double v_hat = 2e-5;
   double c_hat_min = 0.01;          // damage grows only when the contact strength c-hat >= this
-  double damage_rate_per_s = 60.0;  // D grows by this times dt per substep while gated on
+  // While gated on, D grows in proportion to how far the edge advances into the particle:
+  // dD = damage_per_band * (approach speed * dt) / band, so a particle breaks once the edge has
+  // pushed into it by band / damage_per_band, whatever the knife speed or time step.
+  double damage_per_band = 2.0;
   // Quadratic speed resistance u <- u / (1 + k2 c-hat u dt), k2 = k2_0 (E / E_ref)(1 + sy / sy_ref).
   double k2_reference_per_s = 50.0;
   double k2_reference_youngs_pa = 1e6;

@@ -1,0 +1,136 @@
+// A knife cut for the tests: the blade stands across the world x axis at x = cut_x_m and
+// descends through the food on the board, then lifts out; records what the tests check.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "sim/mpm/solver.h"
+#include "sim/mpm/topology.h"
+
+namespace culinarycut::mpm::testing {
+
+struct CutScenario {
+  double cut_x_m = 0.5;            // blade plane
+  double start_height_m = 0.08;    // TCP (edge) height at the start
+  double end_height_m = 0.019;     // lowest edge height (board top is 0.02 m)
+  double speed_m_s = 0.5;          // descent speed
+  double settle_s = 0.02;          // after lifting out
+  double lift_speed_m_s = 1.0;
+  double lift_to_m = 0.08;         // edge height the knife lifts back to
+  double saw_amplitude_m = 0.0;    // back and forth along the blade (world y) while descending
+  double saw_frequency_hz = 0.0;
+};
+
+struct CutResult {
+  int steps = 0;
+  std::int64_t side_violations = 0;   // labelled particles found on the other side of the blade
+  double worst_momentum_residual = 0.0;  // while the blade pushes with > 5 % of its peak force
+  double peak_blade_force_n = 0.0;
+  double peak_force_before_contact_n = 0.0;
+  bool finite = true;
+  double j_min = 1.0, j_max = 1.0;
+  double max_kinetic_energy_j = 0.0;
+  double max_c_hat = 0.0;
+  double max_elastic_energy_j = 0.0;
+  std::int64_t j_clamps = 0;
+  double max_knife_speed_m_s = 0.0;
+  std::int64_t broken_particles = 0;     // damage >= 0.9 at the end
+  std::vector<double> blade_force_z_n;   // per substep
+  std::vector<double> residuals;
+};
+
+// The TCP frame for a blade across x: blade normal (TCP y) along +x, edge down (TCP z = -z).
+inline Eigen::Matrix3d BladeAcrossX() {
+  Eigen::Matrix3d rotation;
+  rotation.col(0) = Eigen::Vector3d(0, 1, 0);
+  rotation.col(1) = Eigen::Vector3d(1, 0, 0);
+  rotation.col(2) = Eigen::Vector3d(0, 0, -1);
+  return rotation;
+}
+
+template <typename Real>
+void AddBoardAndTable(Solver<Real>* solver) {
+  RigidMotion board;
+  board.pose.translation() = Eigen::Vector3d(0.5, 0.0, 0.01);
+  solver->SetBoard(Eigen::Vector3d(0.4, 0.3, 0.02), board);
+  solver->SetTable(0.0);
+}
+
+template <typename Real>
+CutResult RunCut(const CutScenario& scenario, Solver<Real>* solver) {
+  CutResult result;
+  solver->SetKnife(KnifeGeometry{});
+  const double dt = solver->StableTimestep();
+  double height = scenario.start_height_m;
+  double time_s = 0.0;
+  bool lifting = false;
+  double settle_left = scenario.settle_s;
+  std::vector<double> forces;
+  std::vector<double> residuals;
+  while (true) {
+    RigidMotion motion;
+    motion.pose.linear() = BladeAcrossX();
+    const double phase = 2.0 * M_PI * scenario.saw_frequency_hz * time_s;
+    const double saw_y = lifting ? 0.0 : scenario.saw_amplitude_m * std::sin(phase);
+    const double saw_vy = lifting ? 0.0
+                                  : scenario.saw_amplitude_m * 2.0 * M_PI *
+                                        scenario.saw_frequency_hz * std::cos(phase);
+    motion.pose.translation() = Eigen::Vector3d(scenario.cut_x_m, saw_y, height);
+    const double vz = lifting ? scenario.lift_speed_m_s : -scenario.speed_m_s;
+    motion.linear_velocity_m_s =
+        Eigen::Vector3d(0, saw_vy, height >= scenario.lift_to_m && lifting ? 0.0 : vz);
+    result.max_knife_speed_m_s = std::max(result.max_knife_speed_m_s, motion.linear_velocity_m_s.norm());
+    solver->SetKnifeMotion(motion);
+    const SubstepDiagnostics d = solver->Substep(dt);
+    ++result.steps;
+    const double force = d.force_on_blade_n.norm();
+    forces.push_back(force);
+    residuals.push_back(d.momentum_residual);
+    result.blade_force_z_n.push_back(d.force_on_blade_n.z());
+    result.j_min = std::min(result.j_min, d.j_min);
+    result.j_max = std::max(result.j_max, d.j_max);
+    result.max_kinetic_energy_j = std::max(result.max_kinetic_energy_j, d.kinetic_energy_j);
+    result.max_c_hat = std::max(result.max_c_hat, d.c_hat);
+    result.max_elastic_energy_j = std::max(result.max_elastic_energy_j, d.elastic_energy_j);
+    result.j_clamps += d.j_clamps;
+    result.finite = result.finite && std::isfinite(d.kinetic_energy_j) && std::isfinite(force) &&
+                    std::isfinite(d.elastic_energy_j);
+
+    // Labelled particles must never come out of the blade's far face while the blade stands
+    // between the sides (a particle caught inside the blade's thickness has not crossed it).
+    const KnifeSdf& knife = *solver->knife();
+    const auto& p = solver->particles();
+    for (std::size_t q = 0; q < p.size(); ++q) {
+      if (p.blade_side[q] == 0) continue;
+      const Eigen::Vector3d x(p.position[0][q], p.position[1][q], p.position[2][q]);
+      if (!knife.WithinBladeLength(x) || knife.HeightAboveEdge(x) < 0.0) continue;
+      const double own_side_m = p.blade_side[q] > 0 ? knife.SideOfBlade(x) : -knife.SideOfBlade(x);
+      if (own_side_m < -0.5 * knife.effective_thickness_m()) ++result.side_violations;
+    }
+    time_s += dt;
+    if (!lifting) {
+      height -= scenario.speed_m_s * dt;
+      if (height <= scenario.end_height_m) lifting = true;
+    } else if (height < scenario.lift_to_m) {
+      height += scenario.lift_speed_m_s * dt;
+    } else {
+      settle_left -= dt;
+      if (settle_left <= 0.0) break;
+    }
+  }
+  result.peak_blade_force_n = *std::max_element(forces.begin(), forces.end());
+  for (const auto damage : solver->particles().damage) result.broken_particles += damage >= 0.9;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (const auto x : solver->particles().position[axis]) result.finite = result.finite && std::isfinite(x);
+  }
+  for (std::size_t s = 0; s < forces.size(); ++s) {
+    if (forces[s] > 0.05 * result.peak_blade_force_n) {
+      result.worst_momentum_residual = std::max(result.worst_momentum_residual, residuals[s]);
+    }
+  }
+  return result;
+}
+
+}  // namespace culinarycut::mpm::testing
