@@ -109,6 +109,7 @@ TEST_CASE("no bevel and an all-bevel blade are valid profiles", "[mpm][colliders
 TEST_CASE("thin blades are thickened to min_thickness_cells * dx", "[mpm][colliders]") {
   KnifeGeometry geometry;
   CHECK(KnifeSdf(geometry, 1e-3).effective_thickness_m() == Approx(0.002));
+  geometry.min_thickness_cells = 1.5;
   CHECK(KnifeSdf(geometry, 4e-3).effective_thickness_m() == Approx(1.5 * 4e-3));
   geometry.min_thickness_cells = 2.0;
   const KnifeSdf coarse(geometry, 5e-3);
