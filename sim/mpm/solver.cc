@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -116,16 +117,22 @@ std::size_t ChunkCount(std::size_t n) { return (n + kChunk - 1) / kChunk; }
 
 // The bounded grid box: nodes (origin + (i, j, k)) * dx for i < dims.x() etc. Near the blade,
 // "split" nodes keep one layer per blade side (CPIC-style) so the sides never share momentum.
+// One grid node: mass and momentum after P2G, mass and velocity after the grid update. Kept
+// together so a transfer touches one cache line per node instead of four.
+template <typename Real>
+struct GridNode {
+  Real mass;
+  Real momentum[3];
+};
+
 template <typename Real>
 struct Solver<Real>::Grid {
   Eigen::Vector3i origin = Eigen::Vector3i::Zero();  // global index of node (0, 0, 0)
   Eigen::Vector3i dims = Eigen::Vector3i::Zero();
-  std::vector<Real> mass;
-  std::array<std::vector<Real>, 3> momentum;         // momentum after P2G, velocity after update
+  std::vector<GridNode<Real>> node;
   std::vector<std::int32_t> split_slot;              // -1, or this node's slot in the layers
   std::vector<std::size_t> split_nodes;              // node index of each slot
-  std::array<std::vector<Real>, 2> layer_mass;       // [side: 0 negative, 1 positive][slot]
-  std::array<std::array<std::vector<Real>, 3>, 2> layer_momentum;
+  std::array<std::vector<GridNode<Real>>, 2> layer;  // [side: 0 negative, 1 positive][slot]
 
   std::size_t size() const {
     return static_cast<std::size_t>(dims.x()) * dims.y() * dims.z();
@@ -251,6 +258,12 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   const double split_half_width_m = blade_half_m + 2.0 * dx;
   const double label_half_width_m = blade_half_m + 3.5 * dx;
 
+  using Clock = std::chrono::steady_clock;
+  auto elapsed_ms = [](Clock::time_point since) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
+  };
+  Clock::time_point stage_start = Clock::now();
+
   // --- Grid box around the particles (only the object's neighbourhood) ---------------------
   Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d high = -low;
@@ -269,8 +282,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   }
   diagnostics.grid_cells = grid.dims;
   const std::size_t nodes = grid.size();
-  grid.mass.assign(nodes, Real(0));
-  for (auto& component : grid.momentum) component.assign(nodes, Real(0));
+  grid.node.assign(nodes, GridNode<Real>{});
   auto node_position = [&](int i, int j, int k) {
     return Eigen::Vector3d((grid.origin.x() + i) * dx, (grid.origin.y() + j) * dx,
                            (grid.origin.z() + k) * dx);
@@ -302,8 +314,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     }
     const std::size_t slots = grid.split_nodes.size();
     for (int side = 0; side < 2; ++side) {
-      grid.layer_mass[side].assign(slots, Real(0));
-      for (auto& component : grid.layer_momentum[side]) component.assign(slots, Real(0));
+      grid.layer[side].assign(slots, GridNode<Real>{});
     }
     // A particle near the blade takes the side it is on, and keeps it once the edge has passed it
     // (from then on the blade stands between the sides); labels are dropped once it is clear of
@@ -367,6 +378,9 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     for (int axis = 0; axis < 3; ++axis) momentum_before[axis] += double(p.mass[q]) * p.velocity[axis][q];
   }
 
+  diagnostics.setup_ms = elapsed_ms(stage_start);
+  stage_start = Clock::now();
+
   // --- P2G: stress (plastic return, damaged corotated), mass and APIC momentum to the grid --
   std::vector<double> elastic_energy_of_block(block_count, 0.0);
   const Real stress_scale = -dt * Real(4) * inv_dx * inv_dx;
@@ -424,13 +438,9 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
               const Vector3<Real> contribution = weight * (momentum + affine * offset_m);
               const std::size_t node = grid.Index(base[0] + i, base[1] + j, base[2] + k);
               const std::int32_t slot = split_on ? grid.split_slot[node] : -1;
-              if (slot >= 0) {
-                grid.layer_mass[side][slot] += weight * m;
-                for (int a = 0; a < 3; ++a) grid.layer_momentum[side][a][slot] += contribution[a];
-              } else {
-                grid.mass[node] += weight * m;
-                for (int a = 0; a < 3; ++a) grid.momentum[a][node] += contribution[a];
-              }
+              GridNode<Real>& target = slot >= 0 ? grid.layer[side][slot] : grid.node[node];
+              target.mass += weight * m;
+              for (int a = 0; a < 3; ++a) target.momentum[a] += contribution[a];
             }
           }
         }
@@ -438,6 +448,9 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
       elastic_energy_of_block[block] = block_energy;
     }
   }
+
+  diagnostics.p2g_ms = elapsed_ms(stage_start);
+  stage_start = Clock::now();
 
   // --- Grid update: velocity, gravity, damping, colliders; impulses for the force -----------
   const double friction = materials_.front().friction_coefficient;
@@ -453,11 +466,13 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
 
   // Updates one node's velocity in place from its mass and momentum; `side` >= 0 for a layer of a
   // split node, whose blade is a wall at the blade face on that side.
-  auto update_node = [&](const Eigen::Vector3d& x, Real node_mass, Real* mx, Real* my, Real* mz,
-                         int side, GridTotals* totals) {
-    if (node_mass <= Real(0)) return;
-    const double m = node_mass;
-    Eigen::Vector3d v(*mx / node_mass, *my / node_mass, *mz / node_mass);
+  auto update_node = [&](const Eigen::Vector3d& x, GridNode<Real>* grid_node, int side,
+                         GridTotals* totals) {
+    if (grid_node->mass <= Real(0)) return;
+    const double m = grid_node->mass;
+    Eigen::Vector3d v(grid_node->momentum[0] / grid_node->mass,
+                      grid_node->momentum[1] / grid_node->mass,
+                      grid_node->momentum[2] / grid_node->mass);
     const Eigen::Vector3d v_start = v;
     const GridTotals colliders_before = *totals;
     v = (v + dt_s * config_.gravity_m_s2) * damping;
@@ -524,9 +539,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
         (totals->board_impulse - colliders_before.board_impulse) +
         (totals->table_impulse - colliders_before.table_impulse);
     totals->other_impulse += m * (v - v_start) - collider_change;
-    *mx = Real(v.x());
-    *my = Real(v.y());
-    *mz = Real(v.z());
+    for (int a = 0; a < 3; ++a) grid_node->momentum[a] = Real(v[a]);  // now the velocity
   };
 
   const std::size_t node_chunks = ChunkCount(nodes);
@@ -540,14 +553,11 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
       const int j = static_cast<int>((node / grid.dims.z()) % grid.dims.y());
       const int i = static_cast<int>(node / (static_cast<std::size_t>(grid.dims.y()) * grid.dims.z()));
       const Eigen::Vector3d x = node_position(i, j, k);
-      update_node(x, grid.mass[node], &grid.momentum[0][node], &grid.momentum[1][node],
-                  &grid.momentum[2][node], -1, &totals);
+      update_node(x, &grid.node[node], -1, &totals);
       const std::int32_t slot = split_on ? grid.split_slot[node] : -1;
       if (slot >= 0) {
         for (int side = 0; side < 2; ++side) {
-          update_node(x, grid.layer_mass[side][slot], &grid.layer_momentum[side][0][slot],
-                      &grid.layer_momentum[side][1][slot], &grid.layer_momentum[side][2][slot], side,
-                      &totals);
+          update_node(x, &grid.layer[side][slot], side, &totals);
         }
       }
     }
@@ -564,6 +574,9 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
       knife_on && effects.damage && c_hat >= cutting.c_hat_min && downward_stroke;
   const bool tip_on = knife_on && cutting.tip_acceleration_m_s2 > 0.0;
   const Eigen::AlignedBox3d damage_box = knife_on ? knife_->BladeBounds(band_m) : Eigen::AlignedBox3d();
+
+  diagnostics.grid_ms = elapsed_ms(stage_start);
+  stage_start = Clock::now();
 
   // --- G2P: velocity and affine field back, F update with J clamp, damage, tip force --------
   const std::size_t particle_chunks = ChunkCount(n);
@@ -595,15 +608,8 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
             const Real weight = w[0][i] * w[1][j] * w[2][k];
             const std::size_t node = grid.Index(base[0] + i, base[1] + j, base[2] + k);
             const std::int32_t slot = split_on ? grid.split_slot[node] : -1;
-            Vector3<Real> node_v;
-            if (slot >= 0) {
-              node_v = Vector3<Real>(grid.layer_momentum[side][0][slot],
-                                     grid.layer_momentum[side][1][slot],
-                                     grid.layer_momentum[side][2][slot]);
-            } else {
-              node_v = Vector3<Real>(grid.momentum[0][node], grid.momentum[1][node],
-                                     grid.momentum[2][node]);
-            }
+            const GridNode<Real>& source = slot >= 0 ? grid.layer[side][slot] : grid.node[node];
+            const Vector3<Real> node_v(source.momentum[0], source.momentum[1], source.momentum[2]);
             const Vector3<Real> offset_m((Real(i) - fx[0]) * dx_r, (Real(j) - fx[1]) * dx_r,
                                          (Real(k) - fx[2]) * dx_r);
             v += weight * node_v;
@@ -672,6 +678,8 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   }
   ParticleTotals particle_totals = SumChunks(work.particle_chunks);
   for (double energy : elastic_energy_of_block) particle_totals.elastic_energy += energy;
+
+  diagnostics.g2p_ms = elapsed_ms(stage_start);
 
   // --- Diagnostics ---------------------------------------------------------------------------
   diagnostics.j_min = particle_totals.j_min;

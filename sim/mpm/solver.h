@@ -41,6 +41,11 @@ struct SubstepDiagnostics {
   Eigen::Vector3d external_impulse_n_s = Eigen::Vector3d::Zero();
   double momentum_residual = 0.0;
   Eigen::Vector3i grid_cells = Eigen::Vector3i::Zero();  // size of the grid box this substep
+  // Wall time of the stages (ms): setup (grid box, blade labels, block sort), P2G, grid, G2P.
+  double setup_ms = 0.0;
+  double p2g_ms = 0.0;
+  double grid_ms = 0.0;
+  double g2p_ms = 0.0;
 };
 
 template <typename Real>
