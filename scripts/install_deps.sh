@@ -12,7 +12,7 @@ PACKAGES=(
   # server
   libzmq3-dev cppzmq-dev libspdlog-dev libfmt-dev libcli11-dev
   # tests and benchmarks
-  catch2
+  catch2 libbenchmark-dev
   # Python client (Debian's packages: there is no PyPI)
   python3 python3-grpcio python3-grpc-tools python3-protobuf python3-numpy python3-zmq python3-pytest
   # plots in benchmarks, docs and examples
