@@ -1,5 +1,8 @@
 // The material points of an MLS-MPM simulation, stored as a structure of arrays so that each
 // transfer streams through the fields it needs (MuJoCo-style plain data; no behaviour here).
+// The solver reorders the particles now and then to keep neighbours together in memory: a
+// particle's index is not stable over a simulation; its fields (object, damage, ...) travel
+// with it.
 #pragma once
 
 #include <array>

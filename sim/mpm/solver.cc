@@ -9,6 +9,7 @@
 #include <string>
 
 #include "sim/mpm/constitutive.h"
+#include "sim/mpm/polar_batch.h"
 
 namespace culinarycut::mpm {
 namespace {
@@ -113,6 +114,36 @@ Totals SumChunks(const std::vector<Totals>& chunks) {
 
 std::size_t ChunkCount(std::size_t n) { return (n + kChunk - 1) / kChunk; }
 
+constexpr std::uint64_t kReorderEverySubsteps = 16;
+
+// values[s] <- values[order[s]].
+template <typename T>
+void Permute(const std::vector<std::uint32_t>& order, std::vector<T>* values) {
+  std::vector<T> permuted(values->size());
+  for (std::size_t s = 0; s < order.size(); ++s) permuted[s] = (*values)[order[s]];
+  values->swap(permuted);
+}
+
+template <typename Real>
+void ReorderParticles(const std::vector<std::uint32_t>& order, Particles<Real>* p) {
+  for (int axis = 0; axis < 3; ++axis) {
+    Permute(order, &p->position[axis]);
+    Permute(order, &p->velocity[axis]);
+  }
+  for (int k = 0; k < 9; ++k) {
+    Permute(order, &p->F[k]);
+    Permute(order, &p->C[k]);
+  }
+  Permute(order, &p->mass);
+  Permute(order, &p->volume);
+  Permute(order, &p->plastic_strain);
+  Permute(order, &p->damage);
+  Permute(order, &p->piece);
+  Permute(order, &p->blade_side);
+  Permute(order, &p->material);
+  Permute(order, &p->object);
+}
+
 }  // namespace
 
 // The bounded grid box: nodes (origin + (i, j, k)) * dx for i < dims.x() etc. Near the blade,
@@ -149,6 +180,8 @@ struct Solver<Real>::Workspace {
   std::array<std::vector<std::uint32_t>, 8> blocks_of_colour;
   std::vector<GridTotals> grid_chunks;
   std::vector<ParticleTotals> particle_chunks;
+  std::array<std::vector<Real>, 9> affine;   // P2G: -dt vol 4/dx^2 tau + m C per particle
+  std::uint64_t substeps_since_reorder = 0;
 };
 
 void ValidateSolverConfig(const SolverConfig& config) {
@@ -360,6 +393,15 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     std::vector<std::uint32_t> fill(work.block_start.begin(), work.block_start.end() - 1);
     for (std::size_t q = 0; q < n; ++q) work.order[fill[block_of[q]]++] = static_cast<std::uint32_t>(q);
   }
+  // Every few substeps, store the particles in block order, so the transfers stream through
+  // memory instead of jumping (deterministic: the order depends only on the positions).
+  if (work.substeps_since_reorder++ % kReorderEverySubsteps == 0) {
+    ReorderParticles(work.order, &p);
+    std::vector<std::uint32_t> reordered_block(n);
+    for (std::size_t s = 0; s < n; ++s) reordered_block[s] = block_of[work.order[s]];
+    block_of.swap(reordered_block);
+    for (std::size_t s = 0; s < n; ++s) work.order[s] = static_cast<std::uint32_t>(s);
+  }
   for (auto& list : work.blocks_of_colour) list.clear();
   for (std::size_t b = 0; b < block_count; ++b) {
     if (work.block_start[b] == work.block_start[b + 1]) continue;
@@ -368,6 +410,22 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     const int bx = static_cast<int>(b / (static_cast<std::size_t>(blocks.y()) * blocks.z()));
     work.blocks_of_colour[(bx & 1) | ((by & 1) << 1) | ((bz & 1) << 2)].push_back(
         static_cast<std::uint32_t>(b));
+  }
+
+  // Blocks whose particles can reach a split node: only their particles look up the layers.
+  std::vector<std::uint8_t> block_near_split(block_count, 0);
+  for (const std::size_t node : grid.split_nodes) {
+    const int k = static_cast<int>(node % grid.dims.z());
+    const int j = static_cast<int>((node / grid.dims.z()) % grid.dims.y());
+    const int i = static_cast<int>(node / (static_cast<std::size_t>(grid.dims.y()) * grid.dims.z()));
+    // A particle with base cell b touches nodes b .. b + 2.
+    for (int bx = std::max(0, i - 2) / kBlockCells; bx <= std::min(blocks.x() - 1, i / kBlockCells); ++bx) {
+      for (int by = std::max(0, j - 2) / kBlockCells; by <= std::min(blocks.y() - 1, j / kBlockCells); ++by) {
+        for (int bz = std::max(0, k - 2) / kBlockCells; bz <= std::min(blocks.z() - 1, k / kBlockCells); ++bz) {
+          block_near_split[(static_cast<std::size_t>(bx) * blocks.y() + by) * blocks.z() + bz] = 1;
+        }
+      }
+    }
   }
 
   // Momentum before the step, for the momentum check.
@@ -381,45 +439,75 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   diagnostics.setup_ms = elapsed_ms(stage_start);
   stage_start = Clock::now();
 
-  // --- P2G: stress (plastic return, damaged corotated), mass and APIC momentum to the grid --
-  std::vector<double> elastic_energy_of_block(block_count, 0.0);
+  // --- P2G, part 1: stress (plastic return, damaged corotated) -> each particle's affine
+  // momentum matrix, in particle order (independent per particle, streams the arrays) ---------
   const Real stress_scale = -dt * Real(4) * inv_dx * inv_dx;
+  for (auto& component : work.affine) component.resize(n);
+  const std::size_t stress_chunks = ChunkCount(n);
+  std::vector<double> elastic_energy_of_chunk(stress_chunks, 0.0);
+  // Stress of one particle given its rotation R; returns its elastic energy (J).
+  auto particle_stress = [&](std::size_t q, const Matrix3<Real>& R) {
+    Matrix3<Real> F;
+    for (int k = 0; k < 9; ++k) F(k / 3, k % 3) = p.F[k][q];
+    const Material& material = materials_[p.material[q]];
+    if (effects.plasticity && material.yield_stress_pa > 0.0) {
+      const Real fraction = material.viscoplastic_relaxation_time_s > 0.0
+                                ? Real(dt_s / (material.viscoplastic_relaxation_time_s + dt_s))
+                                : Real(1);
+      const Real plastic = ReturnToYieldSurface(&F, R, Real(material.yield_stress_pa),
+                                                Real(material.shear_modulus_pa()), fraction);
+      if (plastic > Real(0)) {
+        p.plastic_strain[q] += plastic;
+        for (int k = 0; k < 9; ++k) p.F[k][q] = F(k / 3, k % 3);
+      }
+    }
+    const Real damage_scale = Real(1) - p.damage[q];
+    const Lame<Real> lame{Real(material.shear_modulus_pa()) * damage_scale,
+                          Real(material.lame_lambda_pa()) * damage_scale};
+    const Real J = F.determinant();
+    const Matrix3<Real> tau = CorotatedKirchhoffStress(F, R, J, lame);
+    const Real volume_scale = stress_scale * p.volume[q];
+    const Real m = p.mass[q];
+    for (int k = 0; k < 9; ++k) work.affine[k][q] = volume_scale * tau(k / 3, k % 3) + m * p.C[k][q];
+    return double(p.volume[q]) * CorotatedEnergyDensity(F, R, J, lame);
+  };
+  constexpr int kLanes = 8;  // particles whose polar rotations are computed together (SIMD)
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (std::int64_t c = 0; c < static_cast<std::int64_t>(stress_chunks); ++c) {
+    double chunk_energy = 0.0;
+    const std::size_t end_q = std::min(n, (c + 1) * kChunk);
+    std::size_t q = c * kChunk;
+    for (; q + kLanes <= end_q; q += kLanes) {
+      Real F_lanes[9][kLanes], R_lanes[9][kLanes];
+      for (int k = 0; k < 9; ++k) {
+        for (int l = 0; l < kLanes; ++l) F_lanes[k][l] = p.F[k][q + l];
+      }
+      PolarRotationBatch<Real, kLanes>(F_lanes, R_lanes);
+      for (int l = 0; l < kLanes; ++l) {
+        Matrix3<Real> R;
+        for (int k = 0; k < 9; ++k) R(k / 3, k % 3) = R_lanes[k][l];
+        chunk_energy += particle_stress(q + l, R);
+      }
+    }
+    for (; q < end_q; ++q) {
+      Matrix3<Real> F;
+      for (int k = 0; k < 9; ++k) F(k / 3, k % 3) = p.F[k][q];
+      chunk_energy += particle_stress(q, PolarRotation(F));
+    }
+    elastic_energy_of_chunk[c] = chunk_energy;
+  }
+
+  // --- P2G, part 2: mass and APIC momentum to the grid, block colour by block colour ---------
   for (int colour = 0; colour < 8; ++colour) {
     const auto& colour_blocks = work.blocks_of_colour[colour];
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
     for (std::int64_t b = 0; b < static_cast<std::int64_t>(colour_blocks.size()); ++b) {
       const std::uint32_t block = colour_blocks[b];
-      double block_energy = 0.0;
       for (std::uint32_t s = work.block_start[block]; s < work.block_start[block + 1]; ++s) {
         const std::uint32_t q = work.order[s];
-        Matrix3<Real> F;
-        for (int k = 0; k < 9; ++k) F(k / 3, k % 3) = p.F[k][q];
-        const Material& material = materials_[p.material[q]];
-        const Real damage_scale = Real(1) - p.damage[q];
-        const Lame<Real> lame{Real(material.shear_modulus_pa()) * damage_scale,
-                              Real(material.lame_lambda_pa()) * damage_scale};
-        const Matrix3<Real> R = PolarRotation(F);
-        if (effects.plasticity && material.yield_stress_pa > 0.0) {
-          const Real fraction =
-              material.viscoplastic_relaxation_time_s > 0.0
-                  ? Real(dt_s / (material.viscoplastic_relaxation_time_s + dt_s))
-                  : Real(1);
-          const Real plastic = ReturnToYieldSurface(&F, R, Real(material.yield_stress_pa),
-                                                    Real(material.shear_modulus_pa()), fraction);
-          if (plastic > Real(0)) {
-            p.plastic_strain[q] += plastic;
-            for (int k = 0; k < 9; ++k) p.F[k][q] = F(k / 3, k % 3);
-          }
-        }
-        const Real J = F.determinant();
-        const Matrix3<Real> tau = CorotatedKirchhoffStress(F, R, J, lame);
-        block_energy += double(p.volume[q]) * CorotatedEnergyDensity(F, R, J, lame);
-        Matrix3<Real> C;
-        for (int k = 0; k < 9; ++k) C(k / 3, k % 3) = p.C[k][q];
+        Matrix3<Real> affine;
+        for (int k = 0; k < 9; ++k) affine(k / 3, k % 3) = work.affine[k][q];
         const Real m = p.mass[q];
-        const Matrix3<Real> affine = stress_scale * p.volume[q] * tau + m * C;
-        const Vector3<Real> momentum(m * p.velocity[0][q], m * p.velocity[1][q], m * p.velocity[2][q]);
-
         int base[3];
         Real fx[3], w[3][3];
         for (int axis = 0; axis < 3; ++axis) {
@@ -428,16 +516,29 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
           fx[axis] = xg - Real(base[axis]);
           QuadraticWeights(fx[axis], w[axis]);
         }
+        // m v + A (x_node - x_p), built up axis by axis: A (x_node - x_p) = A (ijk dx - fx dx).
+        const Vector3<Real> fx_m(fx[0] * dx_r, fx[1] * dx_r, fx[2] * dx_r);
+        const Vector3<Real> at_particle =
+            m * Vector3<Real>(p.velocity[0][q], p.velocity[1][q], p.velocity[2][q]) - affine * fx_m;
+        const Vector3<Real> step_i = affine.col(0) * dx_r;
+        const Vector3<Real> step_j = affine.col(1) * dx_r;
+        const Vector3<Real> step_k = affine.col(2) * dx_r;
+        const bool near_split = split_on && block_near_split[block];
         const int side = p.blade_side[q] > 0 ? 1 : 0;
+        const std::size_t stride_i = static_cast<std::size_t>(grid.dims.y()) * grid.dims.z();
+        const std::size_t stride_j = grid.dims.z();
+        const std::size_t origin_node = grid.Index(base[0], base[1], base[2]);
         for (int i = 0; i < 3; ++i) {
+          const Vector3<Real> value_i = at_particle + Real(i) * step_i;
           for (int j = 0; j < 3; ++j) {
+            const Vector3<Real> value_ij = value_i + Real(j) * step_j;
+            const Real weight_ij = w[0][i] * w[1][j];
+            const std::size_t row = origin_node + i * stride_i + j * stride_j;
             for (int k = 0; k < 3; ++k) {
-              const Real weight = w[0][i] * w[1][j] * w[2][k];
-              const Vector3<Real> offset_m((Real(i) - fx[0]) * dx_r, (Real(j) - fx[1]) * dx_r,
-                                           (Real(k) - fx[2]) * dx_r);
-              const Vector3<Real> contribution = weight * (momentum + affine * offset_m);
-              const std::size_t node = grid.Index(base[0] + i, base[1] + j, base[2] + k);
-              const std::int32_t slot = split_on ? grid.split_slot[node] : -1;
+              const Real weight = weight_ij * w[2][k];
+              const Vector3<Real> contribution = weight * (value_ij + Real(k) * step_k);
+              const std::size_t node = row + k;
+              const std::int32_t slot = near_split ? grid.split_slot[node] : -1;
               GridNode<Real>& target = slot >= 0 ? grid.layer[side][slot] : grid.node[node];
               target.mass += weight * m;
               for (int a = 0; a < 3; ++a) target.momentum[a] += contribution[a];
@@ -445,7 +546,6 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
           }
         }
       }
-      elastic_energy_of_block[block] = block_energy;
     }
   }
 
@@ -600,23 +700,38 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
         QuadraticWeights(fx[axis], w[axis]);
       }
       const int side = p.blade_side[q] > 0 ? 1 : 0;
+      const bool near_split = split_on && block_near_split[block_of[q]];
+      // v = sum w v_i; B = sum w v_i (x_i - x_p)^T = sum w v_i (ijk dx)^T - v (fx dx)^T, with the
+      // first sum kept per axis index.
       Vector3<Real> v = Vector3<Real>::Zero();
-      Matrix3<Real> B = Matrix3<Real>::Zero();
+      Vector3<Real> by_i[3] = {Vector3<Real>::Zero(), Vector3<Real>::Zero(), Vector3<Real>::Zero()};
+      Vector3<Real> by_j[3] = {Vector3<Real>::Zero(), Vector3<Real>::Zero(), Vector3<Real>::Zero()};
+      Vector3<Real> by_k[3] = {Vector3<Real>::Zero(), Vector3<Real>::Zero(), Vector3<Real>::Zero()};
+      const std::size_t stride_i = static_cast<std::size_t>(grid.dims.y()) * grid.dims.z();
+      const std::size_t stride_j = grid.dims.z();
+      const std::size_t origin_node = grid.Index(base[0], base[1], base[2]);
       for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) {
+          const Real weight_ij = w[0][i] * w[1][j];
+          const std::size_t row = origin_node + i * stride_i + j * stride_j;
           for (int k = 0; k < 3; ++k) {
-            const Real weight = w[0][i] * w[1][j] * w[2][k];
-            const std::size_t node = grid.Index(base[0] + i, base[1] + j, base[2] + k);
-            const std::int32_t slot = split_on ? grid.split_slot[node] : -1;
+            const std::size_t node = row + k;
+            const std::int32_t slot = near_split ? grid.split_slot[node] : -1;
             const GridNode<Real>& source = slot >= 0 ? grid.layer[side][slot] : grid.node[node];
-            const Vector3<Real> node_v(source.momentum[0], source.momentum[1], source.momentum[2]);
-            const Vector3<Real> offset_m((Real(i) - fx[0]) * dx_r, (Real(j) - fx[1]) * dx_r,
-                                         (Real(k) - fx[2]) * dx_r);
-            v += weight * node_v;
-            B += weight * node_v * offset_m.transpose();
+            const Real weight = weight_ij * w[2][k];
+            const Vector3<Real> weighted(weight * source.momentum[0], weight * source.momentum[1],
+                                         weight * source.momentum[2]);
+            v += weighted;
+            by_i[i] += weighted;
+            by_j[j] += weighted;
+            by_k[k] += weighted;
           }
         }
       }
+      Matrix3<Real> B;
+      B.col(0) = (by_i[1] + Real(2) * by_i[2] - fx[0] * v) * dx_r;
+      B.col(1) = (by_j[1] + Real(2) * by_j[2] - fx[1] * v) * dx_r;
+      B.col(2) = (by_k[1] + Real(2) * by_k[2] - fx[2] * v) * dx_r;
       const Matrix3<Real> C = c_scale * B;
       const Eigen::Vector3d x(p.position[0][q], p.position[1][q], p.position[2][q]);
 
@@ -677,7 +792,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     }
   }
   ParticleTotals particle_totals = SumChunks(work.particle_chunks);
-  for (double energy : elastic_energy_of_block) particle_totals.elastic_energy += energy;
+  for (double energy : elastic_energy_of_chunk) particle_totals.elastic_energy += energy;
 
   diagnostics.g2p_ms = elapsed_ms(stage_start);
 
