@@ -5,6 +5,7 @@
 //   build/bench/bench_mpm_throughput --benchmark_counters_tabular=true
 //   bench/mpm_throughput_report.py   (runs it and writes docs/benchmarks/mpm_throughput.md)
 #include <cmath>
+#include <vector>
 
 #include <benchmark/benchmark.h>
 
@@ -79,6 +80,42 @@ BENCHMARK(BM_CuttingSubstep)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(1.0);
+
+// The machine's limits for the roofline estimate: memory bandwidth (STREAM-like triad over
+// arrays far larger than the caches) and single-precision FMA throughput, both on 2 threads.
+void BM_MemoryTriad(benchmark::State& state) {
+  const std::size_t n = std::size_t{1} << 25;  // 128 MiB per array
+  std::vector<float> a(n, 1.0f), b(n, 2.0f), c(n, 3.0f);
+  for (auto _ : state) {
+#pragma omp parallel for num_threads(2) schedule(static)
+    for (std::int64_t i = 0; i < static_cast<std::int64_t>(n); ++i) a[i] = b[i] + 1.5f * c[i];
+    benchmark::DoNotOptimize(a.data());
+  }
+  state.counters["bytes_per_s"] =
+      benchmark::Counter(3.0 * 4.0 * n * state.iterations(), benchmark::Counter::kIsRate);
+}
+
+void BM_FmaThroughput(benchmark::State& state) {
+  constexpr int kLanes = 64;
+  constexpr long kRepeats = 2'000'000;
+  for (auto _ : state) {
+#pragma omp parallel num_threads(2)
+    {
+      float acc[kLanes];
+      for (int i = 0; i < kLanes; ++i) acc[i] = float(i);
+      for (long r = 0; r < kRepeats; ++r) {
+#pragma omp simd
+        for (int i = 0; i < kLanes; ++i) acc[i] = acc[i] * 0.999999f + 1e-6f;
+      }
+      benchmark::DoNotOptimize(acc);
+    }
+  }
+  state.counters["flops_per_s"] = benchmark::Counter(2.0 * 2.0 * kLanes * kRepeats * state.iterations(),
+                                                     benchmark::Counter::kIsRate);
+}
+
+BENCHMARK(BM_MemoryTriad)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.5);
+BENCHMARK(BM_FmaThroughput)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.5);
 
 }  // namespace
 }  // namespace culinarycut::mpm
