@@ -10,6 +10,7 @@
 
 #include "sim/mpm/constitutive.h"
 #include "sim/mpm/polar_batch.h"
+#include "sim/mpm/stress_batch.h"
 
 namespace culinarycut::mpm {
 namespace {
@@ -148,13 +149,12 @@ void ReorderParticles(const std::vector<std::uint32_t>& order, Particles<Real>* 
 
 // The bounded grid box: nodes (origin + (i, j, k)) * dx for i < dims.x() etc. Near the blade,
 // "split" nodes keep one layer per blade side (CPIC-style) so the sides never share momentum.
-// One grid node: mass and momentum after P2G, mass and velocity after the grid update. Kept
-// together so a transfer touches one cache line per node instead of four.
+// One grid node: (momentum x, y, z, mass) after P2G, (velocity, mass) after the grid update. One
+// 4-vector: a transfer adds to it with one SIMD operation and touches one cache line.
 template <typename Real>
-struct GridNode {
-  Real mass;
-  Real momentum[3];
-};
+using GridNode = Eigen::Matrix<Real, 4, 1>;
+template <typename Real>
+using Vector4 = Eigen::Matrix<Real, 4, 1>;
 
 template <typename Real>
 struct Solver<Real>::Grid {
@@ -315,7 +315,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   }
   diagnostics.grid_cells = grid.dims;
   const std::size_t nodes = grid.size();
-  grid.node.assign(nodes, GridNode<Real>{});
+  grid.node.assign(nodes, GridNode<Real>::Zero());
   auto node_position = [&](int i, int j, int k) {
     return Eigen::Vector3d((grid.origin.x() + i) * dx, (grid.origin.y() + j) * dx,
                            (grid.origin.z() + k) * dx);
@@ -347,7 +347,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     }
     const std::size_t slots = grid.split_nodes.size();
     for (int side = 0; side < 2; ++side) {
-      grid.layer[side].assign(slots, GridNode<Real>{});
+      grid.layer[side].assign(slots, GridNode<Real>::Zero());
     }
     // A particle near the blade takes the side it is on, and keeps it once the edge has passed it
     // (from then on the blade stands between the sides); labels are dropped once it is clear of
@@ -478,16 +478,57 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     const std::size_t end_q = std::min(n, (c + 1) * kChunk);
     std::size_t q = c * kChunk;
     for (; q + kLanes <= end_q; q += kLanes) {
-      Real F_lanes[9][kLanes], R_lanes[9][kLanes];
+      Real F_lanes[9][kLanes], R_lanes[9][kLanes], C_lanes[9][kLanes], affine_lanes[9][kLanes];
+      Real mu[kLanes], lambda[kLanes], volume_scale[kLanes], mass[kLanes], volume[kLanes];
+      Real yield_strain_sq[kLanes], green_sq[kLanes], energy[kLanes];
       for (int k = 0; k < 9; ++k) {
-        for (int l = 0; l < kLanes; ++l) F_lanes[k][l] = p.F[k][q + l];
+        for (int l = 0; l < kLanes; ++l) {
+          F_lanes[k][l] = p.F[k][q + l];
+          C_lanes[k][l] = p.C[k][q + l];
+        }
+      }
+      for (int l = 0; l < kLanes; ++l) {
+        const Material& material = materials_[p.material[q + l]];
+        const Real damage_scale = Real(1) - p.damage[q + l];
+        mu[l] = Real(material.shear_modulus_pa()) * damage_scale;
+        lambda[l] = Real(material.lame_lambda_pa()) * damage_scale;
+        volume[l] = p.volume[q + l];
+        volume_scale[l] = stress_scale * volume[l];
+        mass[l] = p.mass[q + l];
+        // Plastic flow is possible above ~0.7 of the yield strain (see ReturnToYieldSurface).
+        const double yield_strain =
+            effects.plasticity && material.yield_stress_pa > 0.0
+                ? 0.7 * std::sqrt(2.0 / 3.0) * material.yield_stress_pa / (2.0 * material.shear_modulus_pa())
+                : std::numeric_limits<double>::infinity();
+        yield_strain_sq[l] = Real(std::min(yield_strain * yield_strain, 1e30));
       }
       PolarRotationBatch<Real, kLanes>(F_lanes, R_lanes);
+      DeviatoricGreenStrainSquared<Real, kLanes>(F_lanes, green_sq);
       for (int l = 0; l < kLanes; ++l) {
-        Matrix3<Real> R;
-        for (int k = 0; k < 9; ++k) R(k / 3, k % 3) = R_lanes[k][l];
-        chunk_energy += particle_stress(q + l, R);
+        if (green_sq[l] < yield_strain_sq[l]) continue;
+        // Rare: this particle may have yielded; return it to the yield surface one at a time.
+        Matrix3<Real> F, R;
+        for (int k = 0; k < 9; ++k) {
+          F(k / 3, k % 3) = F_lanes[k][l];
+          R(k / 3, k % 3) = R_lanes[k][l];
+        }
+        const Material& material = materials_[p.material[q + l]];
+        const Real fraction = material.viscoplastic_relaxation_time_s > 0.0
+                                  ? Real(dt_s / (material.viscoplastic_relaxation_time_s + dt_s))
+                                  : Real(1);
+        const Real plastic = ReturnToYieldSurface(&F, R, Real(material.yield_stress_pa),
+                                                  Real(material.shear_modulus_pa()), fraction);
+        if (plastic > Real(0)) {
+          p.plastic_strain[q + l] += plastic;
+          for (int k = 0; k < 9; ++k) p.F[k][q + l] = F_lanes[k][l] = F(k / 3, k % 3);
+        }
       }
+      CorotatedAffineBatch<Real, kLanes>(F_lanes, R_lanes, C_lanes, mu, lambda, volume_scale, mass,
+                                         volume, affine_lanes, energy);
+      for (int k = 0; k < 9; ++k) {
+        for (int l = 0; l < kLanes; ++l) work.affine[k][q + l] = affine_lanes[k][l];
+      }
+      for (int l = 0; l < kLanes; ++l) chunk_energy += energy[l];
     }
     for (; q < end_q; ++q) {
       Matrix3<Real> F;
@@ -520,28 +561,29 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
         const Vector3<Real> fx_m(fx[0] * dx_r, fx[1] * dx_r, fx[2] * dx_r);
         const Vector3<Real> at_particle =
             m * Vector3<Real>(p.velocity[0][q], p.velocity[1][q], p.velocity[2][q]) - affine * fx_m;
-        const Vector3<Real> step_i = affine.col(0) * dx_r;
-        const Vector3<Real> step_j = affine.col(1) * dx_r;
-        const Vector3<Real> step_k = affine.col(2) * dx_r;
+        // (momentum contribution, mass) as 4-vectors: one SIMD add per node.
+        const Vector4<Real> at_particle4(at_particle.x(), at_particle.y(), at_particle.z(), m);
+        Vector4<Real> step_i, step_j, step_k;
+        step_i << affine.col(0) * dx_r, Real(0);
+        step_j << affine.col(1) * dx_r, Real(0);
+        step_k << affine.col(2) * dx_r, Real(0);
         const bool near_split = split_on && block_near_split[block];
         const int side = p.blade_side[q] > 0 ? 1 : 0;
         const std::size_t stride_i = static_cast<std::size_t>(grid.dims.y()) * grid.dims.z();
         const std::size_t stride_j = grid.dims.z();
         const std::size_t origin_node = grid.Index(base[0], base[1], base[2]);
         for (int i = 0; i < 3; ++i) {
-          const Vector3<Real> value_i = at_particle + Real(i) * step_i;
+          const Vector4<Real> value_i = at_particle4 + Real(i) * step_i;
           for (int j = 0; j < 3; ++j) {
-            const Vector3<Real> value_ij = value_i + Real(j) * step_j;
+            const Vector4<Real> value_ij = value_i + Real(j) * step_j;
             const Real weight_ij = w[0][i] * w[1][j];
             const std::size_t row = origin_node + i * stride_i + j * stride_j;
             for (int k = 0; k < 3; ++k) {
               const Real weight = weight_ij * w[2][k];
-              const Vector3<Real> contribution = weight * (value_ij + Real(k) * step_k);
               const std::size_t node = row + k;
               const std::int32_t slot = near_split ? grid.split_slot[node] : -1;
               GridNode<Real>& target = slot >= 0 ? grid.layer[side][slot] : grid.node[node];
-              target.mass += weight * m;
-              for (int a = 0; a < 3; ++a) target.momentum[a] += contribution[a];
+              target += weight * (value_ij + Real(k) * step_k);
             }
           }
         }
@@ -568,11 +610,10 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   // split node, whose blade is a wall at the blade face on that side.
   auto update_node = [&](const Eigen::Vector3d& x, GridNode<Real>* grid_node, int side,
                          GridTotals* totals) {
-    if (grid_node->mass <= Real(0)) return;
-    const double m = grid_node->mass;
-    Eigen::Vector3d v(grid_node->momentum[0] / grid_node->mass,
-                      grid_node->momentum[1] / grid_node->mass,
-                      grid_node->momentum[2] / grid_node->mass);
+    const Real node_mass = (*grid_node)[3];
+    if (node_mass <= Real(0)) return;
+    const double m = node_mass;
+    Eigen::Vector3d v = (grid_node->template head<3>() / node_mass).template cast<double>();
     const Eigen::Vector3d v_start = v;
     const GridTotals colliders_before = *totals;
     v = (v + dt_s * config_.gravity_m_s2) * damping;
@@ -639,7 +680,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
         (totals->board_impulse - colliders_before.board_impulse) +
         (totals->table_impulse - colliders_before.table_impulse);
     totals->other_impulse += m * (v - v_start) - collider_change;
-    for (int a = 0; a < 3; ++a) grid_node->momentum[a] = Real(v[a]);  // now the velocity
+    grid_node->template head<3>() = v.cast<Real>();  // now the velocity
   };
 
   const std::size_t node_chunks = ChunkCount(nodes);
@@ -703,10 +744,10 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
       const bool near_split = split_on && block_near_split[block_of[q]];
       // v = sum w v_i; B = sum w v_i (x_i - x_p)^T = sum w v_i (ijk dx)^T - v (fx dx)^T, with the
       // first sum kept per axis index.
-      Vector3<Real> v = Vector3<Real>::Zero();
-      Vector3<Real> by_i[3] = {Vector3<Real>::Zero(), Vector3<Real>::Zero(), Vector3<Real>::Zero()};
-      Vector3<Real> by_j[3] = {Vector3<Real>::Zero(), Vector3<Real>::Zero(), Vector3<Real>::Zero()};
-      Vector3<Real> by_k[3] = {Vector3<Real>::Zero(), Vector3<Real>::Zero(), Vector3<Real>::Zero()};
+      Vector4<Real> v4 = Vector4<Real>::Zero();
+      Vector4<Real> by_i[3] = {Vector4<Real>::Zero(), Vector4<Real>::Zero(), Vector4<Real>::Zero()};
+      Vector4<Real> by_j[3] = {Vector4<Real>::Zero(), Vector4<Real>::Zero(), Vector4<Real>::Zero()};
+      Vector4<Real> by_k[3] = {Vector4<Real>::Zero(), Vector4<Real>::Zero(), Vector4<Real>::Zero()};
       const std::size_t stride_i = static_cast<std::size_t>(grid.dims.y()) * grid.dims.z();
       const std::size_t stride_j = grid.dims.z();
       const std::size_t origin_node = grid.Index(base[0], base[1], base[2]);
@@ -718,20 +759,19 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
             const std::size_t node = row + k;
             const std::int32_t slot = near_split ? grid.split_slot[node] : -1;
             const GridNode<Real>& source = slot >= 0 ? grid.layer[side][slot] : grid.node[node];
-            const Real weight = weight_ij * w[2][k];
-            const Vector3<Real> weighted(weight * source.momentum[0], weight * source.momentum[1],
-                                         weight * source.momentum[2]);
-            v += weighted;
+            const Vector4<Real> weighted = (weight_ij * w[2][k]) * source;  // lane 3 unused
+            v4 += weighted;
             by_i[i] += weighted;
             by_j[j] += weighted;
             by_k[k] += weighted;
           }
         }
       }
+      Vector3<Real> v = v4.template head<3>();
       Matrix3<Real> B;
-      B.col(0) = (by_i[1] + Real(2) * by_i[2] - fx[0] * v) * dx_r;
-      B.col(1) = (by_j[1] + Real(2) * by_j[2] - fx[1] * v) * dx_r;
-      B.col(2) = (by_k[1] + Real(2) * by_k[2] - fx[2] * v) * dx_r;
+      B.col(0) = ((by_i[1] + Real(2) * by_i[2]).template head<3>() - fx[0] * v) * dx_r;
+      B.col(1) = ((by_j[1] + Real(2) * by_j[2]).template head<3>() - fx[1] * v) * dx_r;
+      B.col(2) = ((by_k[1] + Real(2) * by_k[2]).template head<3>() - fx[2] * v) * dx_r;
       const Matrix3<Real> C = c_scale * B;
       const Eigen::Vector3d x(p.position[0][q], p.position[1][q], p.position[2][q]);
 
