@@ -124,10 +124,13 @@ KnifeSdf::KnifeSdf(const KnifeGeometry& geometry, double dx_m) : geometry_(geome
   thickness_m_ = std::max(geometry.blade_thickness_m, geometry.min_thickness_cells * dx_m);
 }
 
-void KnifeSdf::SetMotion(const RigidMotion& tcp_motion) { motion_ = tcp_motion; }
+void KnifeSdf::SetMotion(const RigidMotion& tcp_motion) {
+  motion_ = tcp_motion;
+  world_to_tcp_ = tcp_motion.pose.inverse();
+}
 
 SdfSample KnifeSdf::Blade(const Eigen::Vector3d& world_m) const {
-  const Eigen::Vector3d p = motion_.pose.inverse() * world_m;
+  const Eigen::Vector3d p = world_to_tcp_ * world_m;
   const Sample2d section =
       ConvexPolygonSdf(MakeBladeProfile(geometry_, thickness_m_), Eigen::Vector2d(p.y(), p.z()));
   // Extrude the profile along x with flat ends: exact outside, exact inside (convex profile).
@@ -152,23 +155,23 @@ SdfSample KnifeSdf::Blade(const Eigen::Vector3d& world_m) const {
 }
 
 SdfSample KnifeSdf::Handle(const Eigen::Vector3d& world_m) const {
-  const Eigen::Vector3d p = motion_.pose.inverse() * world_m - geometry_.handle_center_in_tcp_m;
+  const Eigen::Vector3d p = world_to_tcp_ * world_m - geometry_.handle_center_in_tcp_m;
   SdfSample sample = LocalBoxSdf(p, 0.5 * geometry_.handle_size_m);
   sample.normal = motion_.pose.linear() * sample.normal;
   return sample;
 }
 
 double KnifeSdf::SideOfBlade(const Eigen::Vector3d& world_m) const {
-  return (motion_.pose.inverse() * world_m).y();
+  return (world_to_tcp_ * world_m).y();
 }
 
 double KnifeSdf::HeightAboveEdge(const Eigen::Vector3d& world_m) const {
   // z runs from the spine down to the edge, so height above the edge is -z.
-  return -(motion_.pose.inverse() * world_m).z();
+  return -(world_to_tcp_ * world_m).z();
 }
 
 bool KnifeSdf::WithinBladeLength(const Eigen::Vector3d& world_m) const {
-  return std::abs((motion_.pose.inverse() * world_m).x()) <= 0.5 * geometry_.blade_length_m;
+  return std::abs((world_to_tcp_ * world_m).x()) <= 0.5 * geometry_.blade_length_m;
 }
 
 Eigen::AlignedBox3d KnifeSdf::BladeBounds(double margin_m) const {

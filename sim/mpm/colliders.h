@@ -49,6 +49,9 @@ class KnifeSdf {
 
   void SetMotion(const RigidMotion& tcp_motion);  // the TCP frame's pose and velocity
   const RigidMotion& motion() const { return motion_; }
+  // A world point in the TCP frame: x along the blade, y its side (SideOfBlade), -z its height
+  // above the edge (HeightAboveEdge). One transform for all three queries.
+  Eigen::Vector3d ToTcpFrame(const Eigen::Vector3d& world_m) const { return world_to_tcp_ * world_m; }
 
   // Distance to one part at a world point.
   SdfSample Blade(const Eigen::Vector3d& world_m) const;
@@ -72,6 +75,7 @@ class KnifeSdf {
   KnifeGeometry geometry_;
   double thickness_m_;
   RigidMotion motion_;
+  Eigen::Isometry3d world_to_tcp_ = Eigen::Isometry3d::Identity();  // inverse of motion_.pose
 };
 
 // A static or moving box (the cutting board), or the half-space below a plane (the table top).

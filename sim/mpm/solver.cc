@@ -297,6 +297,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   // get a side label a little further out, so every particle touching a split node has one.
   const double split_half_width_m = blade_half_m + 2.0 * dx;
   const double label_half_width_m = blade_half_m + 3.5 * dx;
+  const double half_length_m = knife_on ? 0.5 * knife_->geometry().blade_length_m : 0.0;
 
   using Clock = std::chrono::steady_clock;
   auto elapsed_ms = [](Clock::time_point since) {
@@ -342,9 +343,9 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     for (int i = lo.x(); i <= hi.x(); ++i) {
       for (int j = lo.y(); j <= hi.y(); ++j) {
         for (int k = lo.z(); k <= hi.z(); ++k) {
-          const Eigen::Vector3d x = node_position(i, j, k);
-          if (std::abs(knife_->SideOfBlade(x)) < split_half_width_m &&
-              knife_->WithinBladeLength(x) && knife_->HeightAboveEdge(x) >= kSplitAboveEdgeCells * dx) {
+          const Eigen::Vector3d local = knife_->ToTcpFrame(node_position(i, j, k));
+          if (std::abs(local.y()) < split_half_width_m && std::abs(local.x()) <= half_length_m &&
+              -local.z() >= kSplitAboveEdgeCells * dx) {
             const std::size_t index = grid.Index(i, j, k);
             grid.split_slot[index] = static_cast<std::int32_t>(grid.split_nodes.size());
             grid.split_nodes.push_back(index);
@@ -363,15 +364,21 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
 #pragma omp parallel for num_threads(threads) schedule(static)
     for (std::int64_t q = 0; q < static_cast<std::int64_t>(n); ++q) {
       const Eigen::Vector3d x(p.position[0][q], p.position[1][q], p.position[2][q]);
-      const bool near = label_region.contains(x) && knife_->WithinBladeLength(x) &&
-                        knife_->HeightAboveEdge(x) >= -2.0 * dx &&
-                        std::abs(knife_->SideOfBlade(x)) < label_half_width_m;
+      if (!label_region.contains(x)) {
+        p.blade_side[q] = static_cast<std::int8_t>(BladeSide::kUnassigned);
+        continue;
+      }
+      const Eigen::Vector3d local = knife_->ToTcpFrame(x);
+      const double side_m = local.y();
+      const double height_m = -local.z();
+      const bool near = std::abs(local.x()) <= half_length_m && height_m >= -2.0 * dx &&
+                        std::abs(side_m) < label_half_width_m;
       if (!near) {
         p.blade_side[q] = static_cast<std::int8_t>(BladeSide::kUnassigned);
       } else if (p.blade_side[q] == static_cast<std::int8_t>(BladeSide::kUnassigned) ||
-                 knife_->HeightAboveEdge(x) < 0.0) {
-        p.blade_side[q] = static_cast<std::int8_t>(
-            knife_->SideOfBlade(x) >= 0.0 ? BladeSide::kPositive : BladeSide::kNegative);
+                 height_m < 0.0) {
+        p.blade_side[q] = static_cast<std::int8_t>(side_m >= 0.0 ? BladeSide::kPositive
+                                                                 : BladeSide::kNegative);
       }
     }
   } else {
@@ -385,7 +392,8 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   auto base_cell = [&](std::size_t q, int axis) {
     return FloorToInt(p.position[axis][q] * inv_dx - Real(0.5)) - grid.origin[axis];
   };
-  for (std::size_t q = 0; q < n; ++q) {
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (std::int64_t q = 0; q < static_cast<std::int64_t>(n); ++q) {
     const int bx = base_cell(q, 0) / kBlockCells;
     const int by = base_cell(q, 1) / kBlockCells;
     const int bz = base_cell(q, 2) / kBlockCells;
@@ -435,13 +443,19 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     }
   }
 
-  // Momentum before the step, for the momentum check.
-  Eigen::Vector3d momentum_before = Eigen::Vector3d::Zero();
-  double total_mass_kg = 0.0;
-  for (std::size_t q = 0; q < n; ++q) {
-    total_mass_kg += p.mass[q];
-    for (int axis = 0; axis < 3; ++axis) momentum_before[axis] += double(p.mass[q]) * p.velocity[axis][q];
+  // Momentum before the step, for the momentum check (summed in fixed chunks: thread-independent).
+  std::vector<Eigen::Vector3d> momentum_of_chunk(ChunkCount(n), Eigen::Vector3d::Zero());
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (std::int64_t c = 0; c < static_cast<std::int64_t>(momentum_of_chunk.size()); ++c) {
+    const std::size_t end_q = std::min(n, (c + 1) * kChunk);
+    for (std::size_t q = c * kChunk; q < end_q; ++q) {
+      for (int axis = 0; axis < 3; ++axis) {
+        momentum_of_chunk[c][axis] += double(p.mass[q]) * p.velocity[axis][q];
+      }
+    }
   }
+  Eigen::Vector3d momentum_before = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& chunk : momentum_of_chunk) momentum_before += chunk;
 
   diagnostics.setup_ms = elapsed_ms(stage_start);
   stage_start = Clock::now();
@@ -879,7 +893,6 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
                       (1.0 + material.yield_stress_pa / cutting.k2_reference_yield_pa);
     diagnostics.knife_speed_factor = 1.0 / (1.0 + k2 * c_hat * dt_s);
   }
-  (void)total_mass_kg;
   return diagnostics;
 }
 
