@@ -492,6 +492,21 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     for (int k = 0; k < 9; ++k) work.affine[k][q] = volume_scale * tau(k / 3, k % 3) + m * p.C[k][q];
     return double(p.volume[q]) * CorotatedEnergyDensity(F, R, J, lame);
   };
+  // Per-material constants, computed once per substep rather than per particle.
+  struct MaterialConstants {
+    Real mu;                    // Pa
+    Real lambda;                // Pa
+    Real yield_test_strain_sq;  // plastic flow is possible above ~0.7 of the yield strain
+  };
+  std::vector<MaterialConstants> material_constants;
+  for (const Material& material : materials_) {
+    const double yield_strain =
+        effects.plasticity && material.yield_stress_pa > 0.0
+            ? 0.7 * std::sqrt(2.0 / 3.0) * material.yield_stress_pa / (2.0 * material.shear_modulus_pa())
+            : 1e15;
+    material_constants.push_back({Real(material.shear_modulus_pa()), Real(material.lame_lambda_pa()),
+                                  Real(yield_strain * yield_strain)});
+  }
   constexpr int kLanes = 8;  // particles whose polar rotations are computed together (SIMD)
 #pragma omp parallel for num_threads(threads) schedule(static)
   for (std::int64_t c = 0; c < static_cast<std::int64_t>(stress_chunks); ++c) {
@@ -509,19 +524,14 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
         }
       }
       for (int l = 0; l < kLanes; ++l) {
-        const Material& material = materials_[p.material[q + l]];
+        const MaterialConstants& material = material_constants[p.material[q + l]];
         const Real damage_scale = Real(1) - p.damage[q + l];
-        mu[l] = Real(material.shear_modulus_pa()) * damage_scale;
-        lambda[l] = Real(material.lame_lambda_pa()) * damage_scale;
+        mu[l] = material.mu * damage_scale;
+        lambda[l] = material.lambda * damage_scale;
         volume[l] = p.volume[q + l];
         volume_scale[l] = stress_scale * volume[l];
         mass[l] = p.mass[q + l];
-        // Plastic flow is possible above ~0.7 of the yield strain (see ReturnToYieldSurface).
-        const double yield_strain =
-            effects.plasticity && material.yield_stress_pa > 0.0
-                ? 0.7 * std::sqrt(2.0 / 3.0) * material.yield_stress_pa / (2.0 * material.shear_modulus_pa())
-                : std::numeric_limits<double>::infinity();
-        yield_strain_sq[l] = Real(std::min(yield_strain * yield_strain, 1e30));
+        yield_strain_sq[l] = material.yield_test_strain_sq;
       }
       PolarRotationBatch<Real, kLanes>(F_lanes, R_lanes);
       DeviatoricGreenStrainSquared<Real, kLanes>(F_lanes, green_sq);
