@@ -444,7 +444,8 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   }
 
   // Momentum before the step, for the momentum check (summed in fixed chunks: thread-independent).
-  std::vector<Eigen::Vector3d> momentum_of_chunk(ChunkCount(n), Eigen::Vector3d::Zero());
+  std::vector<Eigen::Vector3d> momentum_of_chunk(
+      effects.force_sensing ? ChunkCount(n) : 0, Eigen::Vector3d::Zero());
 #pragma omp parallel for num_threads(threads) schedule(static)
   for (std::int64_t c = 0; c < static_cast<std::int64_t>(momentum_of_chunk.size()); ++c) {
     const std::size_t end_q = std::min(n, (c + 1) * kChunk);
@@ -637,6 +638,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   const Eigen::Vector3d blade_normal =
       knife_on ? Eigen::Vector3d(knife_->motion().pose.linear().col(1)) : Eigen::Vector3d::UnitY();
 
+  const bool sense_force = effects.force_sensing;  // off: no impulse bookkeeping at all
   // Updates one node's velocity in place from its mass and momentum; `side` >= 0 for a layer of a
   // split node, whose blade is a wall at the blade face on that side.
   auto update_node = [&](const Eigen::Vector3d& x, GridNode<Real>* grid_node, int side,
@@ -646,7 +648,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     const double m = node_mass;
     Eigen::Vector3d v = (grid_node->template head<3>() / node_mass).template cast<double>();
     const Eigen::Vector3d v_start = v;
-    const GridTotals colliders_before = *totals;
+    const GridTotals colliders_before = sense_force ? *totals : GridTotals{};
     v = (v + dt_s * config_.gravity_m_s2) * damping;
     double approach = 0.0;
     if (board_ && board_box.contains(x)) {
@@ -655,7 +657,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
         const Eigen::Vector3d before = v;
         if (ResolveContact(sample.normal, board_->motion().VelocityAt(x), friction, use_friction,
                            &v, &approach)) {
-          totals->board_impulse += m * (v - before);
+          if (sense_force) totals->board_impulse += m * (v - before);
         }
       }
     }
@@ -663,7 +665,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
       const Eigen::Vector3d before = v;
       if (ResolveContact(Eigen::Vector3d::UnitZ(), Eigen::Vector3d::Zero(), friction, use_friction,
                          &v, &approach)) {
-        totals->table_impulse += m * (v - before);
+        if (sense_force) totals->table_impulse += m * (v - before);
       }
     }
     if (knife_on) {
@@ -674,7 +676,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
           const Eigen::Vector3d before = v;
           if (ResolveContact(sign * blade_normal, knife_->motion().VelocityAt(x), friction,
                              use_friction, &v, &approach)) {
-            totals->blade_impulse += m * (v - before);
+            if (sense_force) totals->blade_impulse += m * (v - before);
           }
         }
       } else if (blade_box.contains(x)) {
@@ -683,7 +685,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
           const Eigen::Vector3d before = v;
           if (ResolveContact(sample.normal, knife_->motion().VelocityAt(x), friction, use_friction,
                              &v, &approach)) {
-            totals->blade_impulse += m * (v - before);
+            if (sense_force) totals->blade_impulse += m * (v - before);
             totals->approach_speed_sum += approach;
           }
         }
@@ -694,7 +696,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
           const Eigen::Vector3d before = v;
           if (ResolveContact(sample.normal, knife_->motion().VelocityAt(x), friction, use_friction,
                              &v, &approach)) {
-            totals->handle_impulse += m * (v - before);
+            if (sense_force) totals->handle_impulse += m * (v - before);
           }
         }
       }
@@ -705,12 +707,14 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
       ++totals->speed_caps;
     }
     // Everything that is not a collider impulse: gravity, damping, the speed cap.
-    const Eigen::Vector3d collider_change =
-        (totals->blade_impulse - colliders_before.blade_impulse) +
-        (totals->handle_impulse - colliders_before.handle_impulse) +
-        (totals->board_impulse - colliders_before.board_impulse) +
-        (totals->table_impulse - colliders_before.table_impulse);
-    totals->other_impulse += m * (v - v_start) - collider_change;
+    if (sense_force) {
+      const Eigen::Vector3d collider_change =
+          (totals->blade_impulse - colliders_before.blade_impulse) +
+          (totals->handle_impulse - colliders_before.handle_impulse) +
+          (totals->board_impulse - colliders_before.board_impulse) +
+          (totals->table_impulse - colliders_before.table_impulse);
+      totals->other_impulse += m * (v - v_start) - collider_change;
+    }
     grid_node->template head<3>() = v.cast<Real>();  // now the velocity
   };
 
