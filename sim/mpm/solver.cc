@@ -75,6 +75,7 @@ struct GridTotals {
   Eigen::Vector3d board_impulse = Eigen::Vector3d::Zero();
   Eigen::Vector3d table_impulse = Eigen::Vector3d::Zero();
   Eigen::Vector3d other_impulse = Eigen::Vector3d::Zero();   // gravity, damping, caps
+  double mass = 0.0;                                         // kg on the grid
   double approach_speed_sum = 0.0;                           // over blade-contact nodes, m/s
   std::int64_t speed_caps = 0;
 
@@ -84,6 +85,7 @@ struct GridTotals {
     board_impulse += other.board_impulse;
     table_impulse += other.table_impulse;
     other_impulse += other.other_impulse;
+    mass += other.mass;
     approach_speed_sum += other.approach_speed_sum;
     speed_caps += other.speed_caps;
   }
@@ -91,7 +93,7 @@ struct GridTotals {
 
 struct ParticleTotals {
   Eigen::Vector3d momentum = Eigen::Vector3d::Zero();
-  Eigen::Vector3d tip_impulse = Eigen::Vector3d::Zero();
+  Eigen::Vector3d particle_impulse = Eigen::Vector3d::Zero();  // tip force and speed caps
   double kinetic_energy = 0.0;
   double elastic_energy = 0.0;
   double j_min = std::numeric_limits<double>::infinity();
@@ -102,7 +104,7 @@ struct ParticleTotals {
 
   void Add(const ParticleTotals& other) {
     momentum += other.momentum;
-    tip_impulse += other.tip_impulse;
+    particle_impulse += other.particle_impulse;
     kinetic_energy += other.kinetic_energy;
     elastic_energy += other.elastic_energy;
     j_min = std::min(j_min, other.j_min);
@@ -123,6 +125,8 @@ Totals SumChunks(const std::vector<Totals>& chunks) {
 std::size_t ChunkCount(std::size_t n) { return (n + kChunk - 1) / kChunk; }
 
 constexpr std::uint64_t kReorderEverySubsteps = 16;
+constexpr double kMaxCellIndex = 1 << 29;  // |x| / dx beyond this would overflow the cell ints
+constexpr double kMaxGridNodes = 4e8;      // 6.4 GB of float nodes: a blow-up, not a scene
 
 // values[s] <- values[order[s]].
 template <typename T>
@@ -159,9 +163,9 @@ void ReorderParticles(const std::vector<std::uint32_t>& order, Particles<Real>* 
 // One grid node: (momentum x, y, z, mass) after P2G, (velocity, mass) after the grid update. One
 // 4-vector: a transfer adds to it with one SIMD operation and touches one cache line.
 template <typename Real>
-using GridNode = Eigen::Matrix<Real, 4, 1>;
-template <typename Real>
 using Vector4 = Eigen::Matrix<Real, 4, 1>;
+template <typename Real>
+using GridNode = Vector4<Real>;
 
 template <typename Real>
 struct Solver<Real>::Grid {
@@ -296,8 +300,12 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   // Nodes this close to the blade's mid-plane, at or above the edge, are split by side; particles
   // get a side label a little further out, so every particle touching a split node has one.
   const double split_half_width_m = blade_half_m + 2.0 * dx;
-  const double label_half_width_m = blade_half_m + 3.5 * dx;
   const double half_length_m = knife_on ? 0.5 * knife_->geometry().blade_length_m : 0.0;
+  const double blade_height_m = knife_on ? knife_->geometry().blade_height_m : 0.0;
+  // A particle's stencil reaches 1.5 cells along each grid axis, so up to 1.5 sqrt(3) cells in
+  // the blade's own frame whatever the knife's pose: particles within that reach of a split node
+  // carry a label.
+  const double stencil_reach_m = 1.5 * std::sqrt(3.0) * dx + 1e-9;
 
   using Clock = std::chrono::steady_clock;
   auto elapsed_ms = [](Clock::time_point since) {
@@ -306,20 +314,54 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   Clock::time_point stage_start = Clock::now();
 
   // --- Grid box around the particles (only the object's neighbourhood) ---------------------
+  // Bounds per chunk in parallel (min and max do not depend on the order); a NaN fails the
+  // comparisons below, which min/max alone would step over.
+  const std::size_t bound_chunks = ChunkCount(n);
+  std::vector<std::array<Real, 7>> chunk_bounds(bound_chunks);
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (std::int64_t c = 0; c < static_cast<std::int64_t>(bound_chunks); ++c) {
+    std::array<Real, 7> b = {std::numeric_limits<Real>::max(), std::numeric_limits<Real>::max(),
+                             std::numeric_limits<Real>::max(), -std::numeric_limits<Real>::max(),
+                             -std::numeric_limits<Real>::max(), -std::numeric_limits<Real>::max(),
+                             Real(1)};
+    const std::size_t end_q = std::min(n, (c + 1) * kChunk);
+    for (int axis = 0; axis < 3; ++axis) {
+      for (std::size_t q = c * kChunk; q < end_q; ++q) {
+        const Real x = p.position[axis][q];
+        b[6] = (x >= -std::numeric_limits<Real>::max() && x <= std::numeric_limits<Real>::max()) ? b[6] : Real(0);
+        b[axis] = std::min(b[axis], x);
+        b[3 + axis] = std::max(b[3 + axis], x);
+      }
+    }
+    chunk_bounds[c] = b;
+  }
   Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d high = -low;
-  for (int axis = 0; axis < 3; ++axis) {
-    const auto [lo, hi] = std::minmax_element(p.position[axis].begin(), p.position[axis].end());
-    low[axis] = *lo;
-    high[axis] = *hi;
+  bool finite = true;
+  for (const auto& b : chunk_bounds) {
+    for (int axis = 0; axis < 3; ++axis) {
+      low[axis] = std::min(low[axis], double(b[axis]));
+      high[axis] = std::max(high[axis], double(b[3 + axis]));
+    }
+    finite = finite && b[6] > Real(0);
   }
-  if (!low.allFinite() || !high.allFinite()) {
-    throw std::runtime_error("MPM particles left the finite range (NaN or Inf position)");
+  if (!finite) throw std::runtime_error("MPM particles left the finite range (NaN or Inf position)");
+  // Cell indices must fit an int, and the grid box must fit in memory.
+  if ((low.cwiseAbs().array() / dx > kMaxCellIndex).any() ||
+      (high.cwiseAbs().array() / dx > kMaxCellIndex).any()) {
+    throw std::runtime_error("MPM particles are too far from the origin for dx = " +
+                             std::to_string(dx) + " m");
   }
   const int margin = config_.grid_margin_cells;
   for (int axis = 0; axis < 3; ++axis) {
     grid.origin[axis] = static_cast<int>(std::floor(low[axis] / dx)) - margin;
     grid.dims[axis] = static_cast<int>(std::floor(high[axis] / dx)) + margin + 3 - grid.origin[axis];
+  }
+  if (grid.dims.template cast<double>().prod() > kMaxGridNodes) {
+    throw std::runtime_error(
+        "MPM particles spread over " + std::to_string((high - low).maxCoeff()) +
+        " m: the grid box would need " + std::to_string(grid.dims.template cast<double>().prod()) +
+        " nodes (limit " + std::to_string(kMaxGridNodes) + "); the food has flown apart");
   }
   diagnostics.grid_cells = grid.dims;
   const std::size_t nodes = grid.size();
@@ -344,8 +386,9 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
       for (int j = lo.y(); j <= hi.y(); ++j) {
         for (int k = lo.z(); k <= hi.z(); ++k) {
           const Eigen::Vector3d local = knife_->ToTcpFrame(node_position(i, j, k));
+          const double height_m = -local.z();
           if (std::abs(local.y()) < split_half_width_m && std::abs(local.x()) <= half_length_m &&
-              -local.z() >= kSplitAboveEdgeCells * dx) {
+              height_m >= kSplitAboveEdgeCells * dx && height_m <= blade_height_m + 0.5 * dx) {
             const std::size_t index = grid.Index(i, j, k);
             grid.split_slot[index] = static_cast<std::int32_t>(grid.split_nodes.size());
             grid.split_nodes.push_back(index);
@@ -360,7 +403,8 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     // A particle near the blade takes the side it is on, and keeps it once the edge has passed it
     // (from then on the blade stands between the sides); labels are dropped once it is clear of
     // the blade, so the next cut labels afresh.
-    const Eigen::AlignedBox3d label_region = knife_->BladeBounds(label_half_width_m + dx);
+    const Eigen::AlignedBox3d label_region =
+        knife_->BladeBounds(split_half_width_m + stencil_reach_m + dx);
 #pragma omp parallel for num_threads(threads) schedule(static)
     for (std::int64_t q = 0; q < static_cast<std::int64_t>(n); ++q) {
       const Eigen::Vector3d x(p.position[0][q], p.position[1][q], p.position[2][q]);
@@ -371,8 +415,10 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
       const Eigen::Vector3d local = knife_->ToTcpFrame(x);
       const double side_m = local.y();
       const double height_m = -local.z();
-      const bool near = std::abs(local.x()) <= half_length_m && height_m >= -2.0 * dx &&
-                        std::abs(side_m) < label_half_width_m;
+      const bool near = std::abs(local.x()) <= half_length_m + stencil_reach_m &&
+                        height_m >= kSplitAboveEdgeCells * dx - stencil_reach_m &&
+                        height_m <= blade_height_m + 0.5 * dx + stencil_reach_m &&
+                        std::abs(side_m) < split_half_width_m + stencil_reach_m;
       if (!near) {
         p.blade_side[q] = static_cast<std::int8_t>(BladeSide::kUnassigned);
       } else if (p.blade_side[q] == static_cast<std::int8_t>(BladeSide::kUnassigned) ||
@@ -500,11 +546,15 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     Real yield_test_strain_sq;  // plastic flow is possible above ~0.7 of the yield strain
   };
   std::vector<MaterialConstants> material_constants;
+  bool any_plastic = false;
   for (const Material& material : materials_) {
-    const double yield_strain =
-        effects.plasticity && material.yield_stress_pa > 0.0
-            ? 0.7 * std::sqrt(2.0 / 3.0) * material.yield_stress_pa / (2.0 * material.shear_modulus_pa())
-            : 1e15;
+    // The same early-out as ReturnToYieldSurface (see YieldTestFraction).
+    const double full_yield_strain =
+        std::sqrt(2.0 / 3.0) * material.yield_stress_pa / (2.0 * material.shear_modulus_pa());
+    const double yield_strain = effects.plasticity && material.yield_stress_pa > 0.0
+                                    ? YieldTestFraction(full_yield_strain) * full_yield_strain
+                                    : 1e15;
+    any_plastic = any_plastic || yield_strain < 1e15;
     material_constants.push_back({Real(material.shear_modulus_pa()), Real(material.lame_lambda_pa()),
                                   Real(yield_strain * yield_strain)});
   }
@@ -535,8 +585,8 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
         yield_strain_sq[l] = material.yield_test_strain_sq;
       }
       PolarRotationBatch<Real, kLanes>(F_lanes, R_lanes);
-      DeviatoricGreenStrainSquared<Real, kLanes>(F_lanes, green_sq);
-      for (int l = 0; l < kLanes; ++l) {
+      if (any_plastic) DeviatoricGreenStrainSquared<Real, kLanes>(F_lanes, green_sq);
+      for (int l = 0; l < kLanes && any_plastic; ++l) {
         if (green_sq[l] < yield_strain_sq[l]) continue;
         // Rare: this particle may have yielded; return it to the yield surface one at a time.
         Matrix3<Real> F, R;
@@ -584,9 +634,10 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
         int base[3];
         Real fx[3], w[3][3];
         for (int axis = 0; axis < 3; ++axis) {
-          const Real xg = p.position[axis][q] * inv_dx - Real(grid.origin[axis]);
-          base[axis] = FloorToInt(xg - Real(0.5));
-          fx[axis] = xg - Real(base[axis]);
+          const Real shifted = p.position[axis][q] * inv_dx - Real(0.5);
+          const int cell = FloorToInt(shifted);  // the same expression as the block sort's
+          base[axis] = cell - grid.origin[axis];
+          fx[axis] = shifted - Real(cell) + Real(0.5);
           QuadraticWeights(fx[axis], w[axis]);
         }
         // m v + A (x_node - x_p), built up axis by axis: A (x_node - x_p) = A (ijk dx - fx dx).
@@ -647,9 +698,13 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     if (node_mass <= Real(0)) return;
     const double m = node_mass;
     Eigen::Vector3d v = (grid_node->template head<3>() / node_mass).template cast<double>();
-    const Eigen::Vector3d v_start = v;
-    const GridTotals colliders_before = sense_force ? *totals : GridTotals{};
-    v = (v + dt_s * config_.gravity_m_s2) * damping;
+    // Gravity and damping; their impulses are counted for the momentum check.
+    const Eigen::Vector3d v_undamped = v + dt_s * config_.gravity_m_s2;
+    v = v_undamped * damping;
+    if (sense_force) {
+      totals->other_impulse += m * dt_s * config_.gravity_m_s2 + m * (v - v_undamped);
+      totals->mass += m;
+    }
     double approach = 0.0;
     if (board_ && board_box.contains(x)) {
       const SdfSample sample = board_->Sample(x);
@@ -703,17 +758,10 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     }
     const double speed = v.norm();
     if (speed > config_.max_grid_speed_m_s) {
+      const Eigen::Vector3d uncapped = v;
       v *= config_.max_grid_speed_m_s / speed;
       ++totals->speed_caps;
-    }
-    // Everything that is not a collider impulse: gravity, damping, the speed cap.
-    if (sense_force) {
-      const Eigen::Vector3d collider_change =
-          (totals->blade_impulse - colliders_before.blade_impulse) +
-          (totals->handle_impulse - colliders_before.handle_impulse) +
-          (totals->board_impulse - colliders_before.board_impulse) +
-          (totals->table_impulse - colliders_before.table_impulse);
-      totals->other_impulse += m * (v - v_start) - collider_change;
+      if (sense_force) totals->other_impulse += m * (v - uncapped);
     }
     grid_node->template head<3>() = v.cast<Real>();  // now the velocity
   };
@@ -740,7 +788,10 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   }
   const GridTotals grid_totals = SumChunks(work.grid_chunks);
   const double c_norm = kContactStrengthScale * dx / dt_s;
-  const double c_hat = knife_on ? std::min(1.0, grid_totals.approach_speed_sum / c_norm) : 0.0;
+  // The number of nodes along the edge grows as 1 / dx: scale the sum back to the reference grid.
+  const double approach_sum_m_s =
+      grid_totals.approach_speed_sum * (dx / cutting.band_reference_dx_m);
+  const double c_hat = knife_on ? std::min(1.0, approach_sum_m_s / c_norm) : 0.0;
   const Eigen::Vector3d knife_velocity =
       knife_on ? knife_->motion().linear_velocity_m_s : Eigen::Vector3d::Zero();
   // Damage needs the edge moving edge-first into the food (a downward stroke).
@@ -770,9 +821,10 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
       int base[3];
       Real fx[3], w[3][3];
       for (int axis = 0; axis < 3; ++axis) {
-        const Real xg = p.position[axis][q] * inv_dx - Real(grid.origin[axis]);
-        base[axis] = FloorToInt(xg - Real(0.5));
-        fx[axis] = xg - Real(base[axis]);
+        const Real shifted = p.position[axis][q] * inv_dx - Real(0.5);
+        const int cell = FloorToInt(shifted);  // the same expression as the block sort's
+        base[axis] = cell - grid.origin[axis];
+        fx[axis] = shifted - Real(cell) + Real(0.5);
         QuadraticWeights(fx[axis], w[axis]);
       }
       const int side = p.blade_side[q] > 0 ? 1 : 0;
@@ -817,7 +869,9 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
         // Only at the edge: the flat faces push the cut sides apart but do not cut them.
         const SdfSample sample = knife_->Blade(x);
         if (std::abs(sample.distance_m) < band_m) {
-          const Eigen::Vector3d relative = v.template cast<double>() - knife_->motion().VelocityAt(x);
+          // The velocity it came in with: contact has already removed the approach from v.
+          const Eigen::Vector3d v_start(p.velocity[0][q], p.velocity[1][q], p.velocity[2][q]);
+          const Eigen::Vector3d relative = v_start - knife_->motion().VelocityAt(x);
           const double normal_speed = relative.dot(sample.normal);
           if (normal_speed <= -v_threshold_m_s) {
             const double increment = cutting.damage_per_band * (-normal_speed * dt_s) / band_m;
@@ -833,12 +887,14 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
         const Eigen::Vector3d push =
             (p.blade_side[q] > 0 ? 1.0 : -1.0) * cutting.tip_acceleration_m_s2 * dt_s * blade_normal;
         v += push.cast<Real>();
-        totals.tip_impulse += double(p.mass[q]) * push;
+        totals.particle_impulse += double(p.mass[q]) * push;
       }
       const Real speed = v.norm();
       if (speed > max_speed) {
+        const Vector3<Real> uncapped = v;
         v *= max_speed / speed;
         ++totals.speed_caps;
+        totals.particle_impulse += double(p.mass[q]) * (v - uncapped).template cast<double>();
       }
       for (int axis = 0; axis < 3; ++axis) {
         p.velocity[axis][q] = v[axis];
@@ -855,7 +911,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
         const Real target = std::isfinite(J) && J > Real(0) ? std::clamp(J, j_min, j_max) : Real(1);
         F = std::isfinite(J) && J > Real(0) ? Matrix3<Real>(F * std::cbrt(target / J))
                                              : Matrix3<Real>::Identity();
-        J = target;
+        J = F.determinant();  // what the clamp achieved, not what it aimed at
         ++totals.j_clamps;
       }
       for (int k = 0; k < 9; ++k) p.F[k][q] = F(k / 3, k % 3);
@@ -891,10 +947,12 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
                                              grid_totals.board_impulse + grid_totals.table_impulse;
     diagnostics.momentum_change_n_s = particle_totals.momentum - momentum_before;
     diagnostics.external_impulse_n_s =
-        collider_impulse + grid_totals.other_impulse + particle_totals.tip_impulse;
-    const double scale = std::max(collider_impulse.norm(), 1e-12);
+        collider_impulse + grid_totals.other_impulse + particle_totals.particle_impulse;
+    // Relative to the larger of the contact impulse and the food's weight over the substep.
+    const double scale = std::max(collider_impulse.norm(),
+                                  grid_totals.mass * config_.gravity_m_s2.norm() * dt_s);
     diagnostics.momentum_residual =
-        collider_impulse.norm() > 0.0
+        scale > 0.0
             ? (diagnostics.momentum_change_n_s - diagnostics.external_impulse_n_s).norm() / scale
             : 0.0;
   }

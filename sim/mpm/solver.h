@@ -27,7 +27,9 @@ struct SubstepDiagnostics {
   Eigen::Vector3d force_on_table_n = Eigen::Vector3d::Zero();
   Eigen::Vector3d knife_velocity_m_s = Eigen::Vector3d::Zero();
   double c_hat = 0.0;                  // contact strength in [0, 1]
-  double knife_speed_factor = 1.0;     // speed-resistance slow-down for the caller to apply
+  // Speed resistance u / (1 + k2 c_hat u dt) at u = 1 (the knife's current speed): multiply the
+  // knife speed by it, or apply the quadratic form at the caller's own u.
+  double knife_speed_factor = 1.0;
   double j_min = 1.0;                  // smallest and largest J after the update
   double j_max = 1.0;
   std::int64_t j_clamps = 0;           // particles whose J was clamped this substep
@@ -35,8 +37,9 @@ struct SubstepDiagnostics {
   std::int64_t damaged_particles = 0;  // particles whose damage grew this substep
   double kinetic_energy_j = 0.0;
   double elastic_energy_j = 0.0;
-  // Momentum balance: the food's momentum change against gravity + collider impulses (N s),
-  // and their mismatch relative to the collider impulse (0 when nothing touches).
+  // Momentum balance: the food's momentum change against the sum of every impulse on it (N s):
+  // gravity, damping, speed caps, tip force and the colliders; and their mismatch relative to the
+  // larger of the collider impulse and the food's weight over the substep.
   Eigen::Vector3d momentum_change_n_s = Eigen::Vector3d::Zero();
   Eigen::Vector3d external_impulse_n_s = Eigen::Vector3d::Zero();
   double momentum_residual = 0.0;

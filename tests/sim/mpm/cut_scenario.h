@@ -21,6 +21,7 @@ struct CutScenario {
   double lift_to_m = 0.08;         // edge height the knife lifts back to
   double saw_amplitude_m = 0.0;    // back and forth along the blade (world y) while descending
   double saw_frequency_hz = 0.0;
+  double yaw_rad = 0.0;            // the blade turned about the vertical (0: across world x)
 };
 
 struct CutResult {
@@ -71,7 +72,9 @@ CutResult RunCut(const CutScenario& scenario, Solver<Real>* solver) {
   std::vector<double> residuals;
   while (true) {
     RigidMotion motion;
-    motion.pose.linear() = BladeAcrossX();
+    motion.pose.linear() =
+        Eigen::AngleAxisd(scenario.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
+        BladeAcrossX();
     const double phase = 2.0 * M_PI * scenario.saw_frequency_hz * time_s;
     const double saw_y = lifting ? 0.0 : scenario.saw_amplitude_m * std::sin(phase);
     const double saw_vy = lifting ? 0.0

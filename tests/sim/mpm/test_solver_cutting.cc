@@ -86,6 +86,34 @@ TEST_CASE("a knife cuts a cucumber into exactly two pieces", "[mpm][cutting]") {
   CHECK(cut.worst_momentum_residual <= 0.01);
 }
 
+TEST_CASE("a knife turned 30 degrees still cuts cleanly and nothing crosses it", "[mpm][cutting]") {
+  SolverConfig config;
+  config.dx_m = 0.004;
+  Solver<float> solver(config, {testing::SoftMaterial(5e4, 0.3)});
+  testing::AddBlock<float>({0.47, -0.015, 0.02}, {0.53, 0.015, 0.05}, config.dx_m, 2, 1000.0,
+                           &solver.particles());
+  testing::AddBoardAndTable(&solver);
+  CutScenario scenario;
+  scenario.yaw_rad = M_PI / 6;
+  const CutResult cut = testing::RunCut(scenario, &solver);
+  INFO("steps " << cut.steps << ", residual " << cut.worst_momentum_residual);
+  CHECK(cut.finite);
+  CHECK(Pieces(&solver, 0.5).pieces.size() == 2);
+  CHECK(cut.side_violations == 0);
+  CHECK(cut.worst_momentum_residual <= 0.01);
+}
+
+TEST_CASE("a particle with a NaN position stops the step with an error", "[mpm][cutting]") {
+  SolverConfig config;
+  Solver<float> solver(config, {testing::SoftMaterial()});
+  testing::AddBlock<float>({0.48, -0.01, 0.02}, {0.52, 0.01, 0.04}, config.dx_m, 2, 1000.0,
+                           &solver.particles());
+  solver.particles().position[1][7] = std::nanf("");
+  CHECK_THROWS_WITH(solver.Substep(1e-4), Catch::Contains("NaN or Inf position"));
+  solver.particles().position[1][7] = 1e30f;
+  CHECK_THROWS_WITH(solver.Substep(1e-4), Catch::Contains("too far from the origin"));
+}
+
 TEST_CASE("without damage the knife passes through and the block heals", "[mpm][cutting]") {
   SolverConfig config;
   config.dx_m = 0.004;
