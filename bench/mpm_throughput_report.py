@@ -19,6 +19,7 @@ TARGET_PARTICLE_STEPS_PER_S = 10e6  # the issue's target: 100k particles, 2 thre
 
 # Work of one particle-step, counted from sim/mpm/solver.cc (float32; see the report for the
 # breakdown): memory traffic of the particle arrays (the grid stays in cache) and arithmetic.
+REPETITIONS = 5  # this VM's speed drifts: report medians, and the spread
 BYTES_PER_PARTICLE_STEP = 377
 FLOPS_PER_PARTICLE_STEP = 1450
 
@@ -32,7 +33,9 @@ def cpu_model() -> str:
 
 def run(binary: Path) -> dict:
     print(f"running {binary} (about a minute)...", flush=True)
-    out = subprocess.run([str(binary), "--benchmark_format=json"], check=True, capture_output=True, text=True)
+    out = subprocess.run([str(binary), "--benchmark_format=json", f"--benchmark_repetitions={REPETITIONS}",
+                          "--benchmark_report_aggregates_only=true"],
+                         check=True, capture_output=True, text=True)
     return json.loads(out.stdout)
 
 
@@ -44,8 +47,13 @@ def main() -> int:
         print(f"error: {args.binary} not found; build first (scripts/build.sh)", file=sys.stderr)
         return 2
     data = run(args.binary)
-    rows, triad, fma = [], None, None
+    rows, spread, triad, fma = [], {}, None, None
     for bench in data["benchmarks"]:
+        aggregate = bench.get("aggregate_name", "")
+        if bench["name"].startswith("BM_CuttingSubstep") and aggregate == "cv":
+            spread[bench["run_name"]] = bench["particle_steps_per_s"]
+        if aggregate not in ("", "median"):
+            continue
         if bench["name"].startswith("BM_CuttingSubstep"):
             rows.append(bench)
         elif bench["name"].startswith("BM_MemoryTriad"):
@@ -67,13 +75,20 @@ def main() -> int:
         f"Machine: {cpu_model()}, {data['context'].get('num_cpus')} CPUs, {platform.platform()}; "
         f"build: Release, no -march flags (SSE2).",
         "",
-        "| particles | threads | ms / substep | particle-steps / s | setup ms | P2G ms | grid ms | G2P ms |",
-        "|---|---|---|---|---|---|---|---|",
+        f"Each row is the median of {REPETITIONS} repetitions of at least 1 s each; the last column is the",
+        "run-to-run spread (coefficient of variation). This virtual machine's speed also drifts over",
+        "hours: in the session that wrote this, solver code of the same speed measured 10.6 to 11.6 M",
+        "particle-steps/s at 100k particles on 2 threads in a quiet period and 7.1 M an hour later, with",
+        "the machine otherwise idle both times.",
+        "",
+        "| particles | threads | ms / substep | particle-steps / s | setup ms | P2G ms | grid ms | G2P ms | spread |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for row in rows:
         lines.append(f"| {int(row['particles']):,} | {int(row['threads'])} | {row['real_time']:.2f} | "
                      f"{row['particle_steps_per_s'] / 1e6:.2f} M | {row['setup_ms']:.2f} | {row['p2g_ms']:.2f} | "
-                     f"{row['grid_ms']:.2f} | {row['g2p_ms']:.2f} |")
+                     f"{row['grid_ms']:.2f} | {row['g2p_ms']:.2f} | "
+                     f"{100 * spread.get(row['run_name'], float('nan')):.0f} % |")
     target_row = next((r for r in rows if int(r["threads"]) == 2 and 90_000 < r["particles"] < 110_000), None)
     achieved = target_row["particle_steps_per_s"] if target_row else float("nan")
     met = "met" if achieved >= TARGET_PARTICLE_STEPS_PER_S else "NOT met"
