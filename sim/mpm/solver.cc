@@ -44,6 +44,34 @@ inline void QuadraticWeights(Real fx, Real w[3]) {
   w[2] = Real(0.5) * (fx - Real(0.5)) * (fx - Real(0.5));
 }
 
+// The cell whose node is the first of a particle's three along one axis (global index).
+template <typename Real>
+inline int CellOf(Real position_m, Real inv_dx) {
+  return FloorToInt(position_m * inv_dx - Real(0.5));
+}
+
+// The 3 x 3 x 3 nodes a particle transfers with: the first node (grid-local index), the
+// particle's offset from it in cells (in [0.5, 1.5)) and the weights, per axis.
+template <typename Real>
+struct Stencil {
+  int base[3];
+  Real fx[3];
+  Real w[3][3];
+};
+
+template <typename Real>
+inline Stencil<Real> StencilOf(const Particles<Real>& p, std::size_t q, Real inv_dx,
+                               const Eigen::Vector3i& grid_origin) {
+  Stencil<Real> stencil;
+  for (int axis = 0; axis < 3; ++axis) {
+    const int cell = CellOf(p.position[axis][q], inv_dx);  // the block sort uses the same cell
+    stencil.base[axis] = cell - grid_origin[axis];
+    stencil.fx[axis] = p.position[axis][q] * inv_dx - Real(cell);
+    QuadraticWeights(stencil.fx[axis], stencil.w[axis]);
+  }
+  return stencil;
+}
+
 // Non-penetration and Coulomb friction of a node velocity against a collider moving at
 // `collider_velocity` with outward normal `normal` (paper: "decomposing relative velocity into
 // normal/tangential components"). Returns whether the node was approaching (and was changed).
@@ -436,7 +464,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   const std::size_t block_count = static_cast<std::size_t>(blocks.x()) * blocks.y() * blocks.z();
   std::vector<std::uint32_t> block_of(n);
   auto base_cell = [&](std::size_t q, int axis) {
-    return FloorToInt(p.position[axis][q] * inv_dx - Real(0.5)) - grid.origin[axis];
+    return CellOf(p.position[axis][q], inv_dx) - grid.origin[axis];
   };
 #pragma omp parallel for num_threads(threads) schedule(static)
   for (std::int64_t q = 0; q < static_cast<std::int64_t>(n); ++q) {
@@ -631,15 +659,10 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
         Matrix3<Real> affine;
         for (int k = 0; k < 9; ++k) affine(k / 3, k % 3) = work.affine[k][q];
         const Real m = p.mass[q];
-        int base[3];
-        Real fx[3], w[3][3];
-        for (int axis = 0; axis < 3; ++axis) {
-          const Real shifted = p.position[axis][q] * inv_dx - Real(0.5);
-          const int cell = FloorToInt(shifted);  // the same expression as the block sort's
-          base[axis] = cell - grid.origin[axis];
-          fx[axis] = shifted - Real(cell) + Real(0.5);
-          QuadraticWeights(fx[axis], w[axis]);
-        }
+        const Stencil<Real> stencil = StencilOf(p, q, inv_dx, grid.origin);
+        const int* base = stencil.base;
+        const Real* fx = stencil.fx;
+        const auto& w = stencil.w;
         // m v + A (x_node - x_p), built up axis by axis: A (x_node - x_p) = A (ijk dx - fx dx).
         const Vector3<Real> fx_m(fx[0] * dx_r, fx[1] * dx_r, fx[2] * dx_r);
         const Vector3<Real> at_particle =
@@ -818,15 +841,10 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     const std::size_t end = std::min(n, (c + 1) * kChunk);
     for (std::size_t s = c * kChunk; s < end; ++s) {
       const std::uint32_t q = work.order[s];
-      int base[3];
-      Real fx[3], w[3][3];
-      for (int axis = 0; axis < 3; ++axis) {
-        const Real shifted = p.position[axis][q] * inv_dx - Real(0.5);
-        const int cell = FloorToInt(shifted);  // the same expression as the block sort's
-        base[axis] = cell - grid.origin[axis];
-        fx[axis] = shifted - Real(cell) + Real(0.5);
-        QuadraticWeights(fx[axis], w[axis]);
-      }
+      const Stencil<Real> stencil = StencilOf(p, q, inv_dx, grid.origin);
+      const int* base = stencil.base;
+      const Real* fx = stencil.fx;
+      const auto& w = stencil.w;
       const int side = p.blade_side[q] > 0 ? 1 : 0;
       const bool near_split = split_on && block_near_split[block_of[q]];
       // v = sum w v_i; B = sum w v_i (x_i - x_p)^T = sum w v_i (ijk dx)^T - v (fx dx)^T, with the
