@@ -9,14 +9,16 @@
 #include <string>
 
 #include "sim/mpm/constitutive.h"
+#include "sim/mpm/grid_contact.h"
 #include "sim/mpm/polar_batch.h"
 #include "sim/mpm/stress_batch.h"
+#include "sim/mpm/substep_totals.h"
+#include "sim/mpm/transfer_stencil.h"
 
 namespace culinarycut::mpm {
 namespace {
 
 constexpr int kBlockCells = 4;        // P2G block edge; same-colour blocks never share a node
-constexpr std::size_t kChunk = 4096;  // reductions sum fixed chunks in a fixed order
 constexpr double kContactStrengthScale = 0.35;  // c_norm = 0.35 dx / dt (paper)
 // Grid nodes feel the blade within half a cell of its surface: a thin, sharp edge between two
 // node layers would otherwise never touch them, and the edge could not press on the food.
@@ -28,161 +30,9 @@ constexpr double kSplitAboveEdgeCells = 0.5;
 template <typename Real>
 using Vector3 = Eigen::Matrix<Real, 3, 1>;
 
-// floor() as an int without a libm call (SSE2 has no rounding instruction; floorf is a hot spot).
-template <typename Real>
-inline int FloorToInt(Real x) {
-  const int truncated = static_cast<int>(x);
-  return truncated - (x < Real(truncated) ? 1 : 0);
-}
-
-// Quadratic B-spline weights of the 3 nodes base, base+1, base+2 along one axis; `fx` is the
-// particle's position relative to node `base`, in cells (in [0.5, 1.5)).
-template <typename Real>
-inline void QuadraticWeights(Real fx, Real w[3]) {
-  w[0] = Real(0.5) * (Real(1.5) - fx) * (Real(1.5) - fx);
-  w[1] = Real(0.75) - (fx - Real(1)) * (fx - Real(1));
-  w[2] = Real(0.5) * (fx - Real(0.5)) * (fx - Real(0.5));
-}
-
-// The cell whose node is the first of a particle's three along one axis (global index).
-template <typename Real>
-inline int CellOf(Real position_m, Real inv_dx) {
-  return FloorToInt(position_m * inv_dx - Real(0.5));
-}
-
-// The 3 x 3 x 3 nodes a particle transfers with: the first node (grid-local index), the
-// particle's offset from it in cells (in [0.5, 1.5)) and the weights, per axis.
-template <typename Real>
-struct Stencil {
-  int base[3];
-  Real fx[3];
-  Real w[3][3];
-};
-
-template <typename Real>
-inline Stencil<Real> StencilOf(const Particles<Real>& p, std::size_t q, Real inv_dx,
-                               const Eigen::Vector3i& grid_origin) {
-  Stencil<Real> stencil;
-  for (int axis = 0; axis < 3; ++axis) {
-    const int cell = CellOf(p.position[axis][q], inv_dx);  // the block sort uses the same cell
-    stencil.base[axis] = cell - grid_origin[axis];
-    stencil.fx[axis] = p.position[axis][q] * inv_dx - Real(cell);
-    QuadraticWeights(stencil.fx[axis], stencil.w[axis]);
-  }
-  return stencil;
-}
-
-// Non-penetration and Coulomb friction of a node velocity against a collider moving at
-// `collider_velocity` with outward normal `normal` (paper: "decomposing relative velocity into
-// normal/tangential components"). Returns whether the node was approaching (and was changed).
-inline bool ResolveContact(const Eigen::Vector3d& normal, const Eigen::Vector3d& collider_velocity,
-                           double friction, bool use_friction, Eigen::Vector3d* velocity,
-                           double* approach_speed) {
-  const Eigen::Vector3d relative = *velocity - collider_velocity;
-  const double normal_speed = relative.dot(normal);
-  if (normal_speed >= 0.0) return false;
-  *approach_speed = -normal_speed;
-  Eigen::Vector3d tangential = relative - normal_speed * normal;
-  if (use_friction) {
-    const double slip = tangential.norm();
-    // Static friction holds the node when the tangential speed is within mu |v_n|.
-    if (slip <= -friction * normal_speed) {
-      tangential.setZero();
-    } else {
-      tangential *= 1.0 + friction * normal_speed / slip;
-    }
-  }
-  *velocity = collider_velocity + tangential;
-  return true;
-}
-
-// Sums of one grid-update chunk, reduced in chunk order so that totals do not depend on threads.
-struct GridTotals {
-  Eigen::Vector3d blade_impulse = Eigen::Vector3d::Zero();   // on the food, N s
-  Eigen::Vector3d handle_impulse = Eigen::Vector3d::Zero();
-  Eigen::Vector3d board_impulse = Eigen::Vector3d::Zero();
-  Eigen::Vector3d table_impulse = Eigen::Vector3d::Zero();
-  Eigen::Vector3d other_impulse = Eigen::Vector3d::Zero();   // gravity, damping, caps
-  double mass = 0.0;                                         // kg on the grid
-  double approach_speed_sum = 0.0;                           // over blade-contact nodes, m/s
-  std::int64_t speed_caps = 0;
-
-  void Add(const GridTotals& other) {
-    blade_impulse += other.blade_impulse;
-    handle_impulse += other.handle_impulse;
-    board_impulse += other.board_impulse;
-    table_impulse += other.table_impulse;
-    other_impulse += other.other_impulse;
-    mass += other.mass;
-    approach_speed_sum += other.approach_speed_sum;
-    speed_caps += other.speed_caps;
-  }
-};
-
-struct ParticleTotals {
-  Eigen::Vector3d momentum = Eigen::Vector3d::Zero();
-  Eigen::Vector3d particle_impulse = Eigen::Vector3d::Zero();  // tip force and speed caps
-  double kinetic_energy = 0.0;
-  double elastic_energy = 0.0;
-  double j_min = std::numeric_limits<double>::infinity();
-  double j_max = -std::numeric_limits<double>::infinity();
-  std::int64_t j_clamps = 0;
-  std::int64_t speed_caps = 0;
-  std::int64_t damaged = 0;
-
-  void Add(const ParticleTotals& other) {
-    momentum += other.momentum;
-    particle_impulse += other.particle_impulse;
-    kinetic_energy += other.kinetic_energy;
-    elastic_energy += other.elastic_energy;
-    j_min = std::min(j_min, other.j_min);
-    j_max = std::max(j_max, other.j_max);
-    j_clamps += other.j_clamps;
-    speed_caps += other.speed_caps;
-    damaged += other.damaged;
-  }
-};
-
-template <typename Totals>
-Totals SumChunks(const std::vector<Totals>& chunks) {
-  Totals total;
-  for (const Totals& chunk : chunks) total.Add(chunk);
-  return total;
-}
-
-std::size_t ChunkCount(std::size_t n) { return (n + kChunk - 1) / kChunk; }
-
 constexpr std::uint64_t kReorderEverySubsteps = 16;
 constexpr double kMaxCellIndex = 1 << 29;  // |x| / dx beyond this would overflow the cell ints
 constexpr double kMaxGridNodes = 4e8;      // 6.4 GB of float nodes: a blow-up, not a scene
-
-// values[s] <- values[order[s]].
-template <typename T>
-void Permute(const std::vector<std::uint32_t>& order, std::vector<T>* values) {
-  std::vector<T> permuted(values->size());
-  for (std::size_t s = 0; s < order.size(); ++s) permuted[s] = (*values)[order[s]];
-  values->swap(permuted);
-}
-
-template <typename Real>
-void ReorderParticles(const std::vector<std::uint32_t>& order, Particles<Real>* p) {
-  for (int axis = 0; axis < 3; ++axis) {
-    Permute(order, &p->position[axis]);
-    Permute(order, &p->velocity[axis]);
-  }
-  for (int k = 0; k < 9; ++k) {
-    Permute(order, &p->F[k]);
-    Permute(order, &p->C[k]);
-  }
-  Permute(order, &p->mass);
-  Permute(order, &p->volume);
-  Permute(order, &p->plastic_strain);
-  Permute(order, &p->damage);
-  Permute(order, &p->piece);
-  Permute(order, &p->blade_side);
-  Permute(order, &p->material);
-  Permute(order, &p->object);
-}
 
 }  // namespace
 
