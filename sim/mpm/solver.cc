@@ -392,21 +392,25 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   const std::size_t stress_chunks = ChunkCount(n);
   std::vector<double> elastic_energy_of_chunk(stress_chunks, 0.0);
   // Stress of one particle given its rotation R; returns its elastic energy (J).
+  // J2 radial return of particle q (F updated in place and stored); false when it did not flow.
+  auto plastic_return = [&](std::size_t q, const Matrix3<Real>& R, Matrix3<Real>* F) {
+    const Material& material = materials_[p.material[q]];
+    if (!effects.plasticity || material.yield_stress_pa <= 0.0) return false;
+    const Real fraction = material.viscoplastic_relaxation_time_s > 0.0
+                              ? Real(dt_s / (material.viscoplastic_relaxation_time_s + dt_s))
+                              : Real(1);
+    const Real plastic = ReturnToYieldSurface(F, R, Real(material.yield_stress_pa),
+                                              Real(material.shear_modulus_pa()), fraction);
+    if (plastic <= Real(0)) return false;
+    p.plastic_strain[q] += plastic;
+    for (int k = 0; k < 9; ++k) p.F[k][q] = (*F)(k / 3, k % 3);
+    return true;
+  };
   auto particle_stress = [&](std::size_t q, const Matrix3<Real>& R) {
     Matrix3<Real> F;
     for (int k = 0; k < 9; ++k) F(k / 3, k % 3) = p.F[k][q];
     const Material& material = materials_[p.material[q]];
-    if (effects.plasticity && material.yield_stress_pa > 0.0) {
-      const Real fraction = material.viscoplastic_relaxation_time_s > 0.0
-                                ? Real(dt_s / (material.viscoplastic_relaxation_time_s + dt_s))
-                                : Real(1);
-      const Real plastic = ReturnToYieldSurface(&F, R, Real(material.yield_stress_pa),
-                                                Real(material.shear_modulus_pa()), fraction);
-      if (plastic > Real(0)) {
-        p.plastic_strain[q] += plastic;
-        for (int k = 0; k < 9; ++k) p.F[k][q] = F(k / 3, k % 3);
-      }
-    }
+    plastic_return(q, R, &F);
     const Real damage_scale = Real(1) - p.damage[q];
     const Lame<Real> lame{Real(material.shear_modulus_pa()) * damage_scale,
                           Real(material.lame_lambda_pa()) * damage_scale};
@@ -472,15 +476,8 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
           F(k / 3, k % 3) = F_lanes[k][l];
           R(k / 3, k % 3) = R_lanes[k][l];
         }
-        const Material& material = materials_[p.material[q + l]];
-        const Real fraction = material.viscoplastic_relaxation_time_s > 0.0
-                                  ? Real(dt_s / (material.viscoplastic_relaxation_time_s + dt_s))
-                                  : Real(1);
-        const Real plastic = ReturnToYieldSurface(&F, R, Real(material.yield_stress_pa),
-                                                  Real(material.shear_modulus_pa()), fraction);
-        if (plastic > Real(0)) {
-          p.plastic_strain[q + l] += plastic;
-          for (int k = 0; k < 9; ++k) p.F[k][q + l] = F_lanes[k][l] = F(k / 3, k % 3);
+        if (plastic_return(q + l, R, &F)) {
+          for (int k = 0; k < 9; ++k) F_lanes[k][l] = F(k / 3, k % 3);
         }
       }
       CorotatedAffineBatch<Real, kLanes>(F_lanes, R_lanes, C_lanes, mu, lambda, volume_scale, mass,

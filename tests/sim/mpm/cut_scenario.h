@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
 
+#include "mpm_fixtures.h"
 #include "sim/mpm/solver.h"
 #include "sim/mpm/topology.h"
 
@@ -57,6 +59,15 @@ void AddBoardAndTable(Solver<Real>* solver) {
   board.pose.translation() = Eigen::Vector3d(0.5, 0.0, 0.01);
   solver->SetBoard(Eigen::Vector3d(0.4, 0.3, 0.02), board);
   solver->SetTable(0.0);
+}
+
+// A soft block on the board, 6 x 3 x 3 cm around (0.5, 0, 0.035) m, 8 particles per 4 mm cell.
+inline std::unique_ptr<Solver<float>> SoftBlockOnBoard(const SolverConfig& config) {
+  auto solver = std::make_unique<Solver<float>>(config, std::vector<Material>{SoftMaterial(5e4, 0.3)});
+  AddBlock<float>({0.47, -0.015, 0.02}, {0.53, 0.015, 0.05}, config.dx_m, 2, 1000.0,
+                  &solver->particles());
+  AddBoardAndTable(solver.get());
+  return solver;
 }
 
 template <typename Real>

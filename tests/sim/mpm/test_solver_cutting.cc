@@ -37,10 +37,8 @@ PieceReport Pieces(Solver<Real>* solver, double cut_x_m) {
 TEST_CASE("a knife cuts a block into exactly two pieces with a narrow gap", "[mpm][cutting]") {
   SolverConfig config;
   config.dx_m = 0.004;
-  Solver<float> solver(config, {testing::SoftMaterial(5e4, 0.3)});
-  testing::AddBlock<float>({0.47, -0.015, 0.02}, {0.53, 0.015, 0.05}, config.dx_m, 2, 1000.0,
-                           &solver.particles());
-  testing::AddBoardAndTable(&solver);
+  const auto block = testing::SoftBlockOnBoard(config);
+  Solver<float>& solver = *block;
   const CutResult cut = testing::RunCut(CutScenario{}, &solver);
   const PieceReport report = Pieces(&solver, 0.5);
   INFO("steps " << cut.steps << ", peak blade force " << cut.peak_blade_force_n << " N, gap "
@@ -89,10 +87,8 @@ TEST_CASE("a knife cuts a cucumber into exactly two pieces", "[mpm][cutting]") {
 TEST_CASE("a knife turned 30 degrees still cuts cleanly and nothing crosses it", "[mpm][cutting]") {
   SolverConfig config;
   config.dx_m = 0.004;
-  Solver<float> solver(config, {testing::SoftMaterial(5e4, 0.3)});
-  testing::AddBlock<float>({0.47, -0.015, 0.02}, {0.53, 0.015, 0.05}, config.dx_m, 2, 1000.0,
-                           &solver.particles());
-  testing::AddBoardAndTable(&solver);
+  const auto block = testing::SoftBlockOnBoard(config);
+  Solver<float>& solver = *block;
   CutScenario scenario;
   scenario.yaw_rad = M_PI / 6;
   const CutResult cut = testing::RunCut(scenario, &solver);
@@ -118,10 +114,8 @@ TEST_CASE("without damage the knife passes through and the block heals", "[mpm][
   SolverConfig config;
   config.dx_m = 0.004;
   config.effects.damage = false;
-  Solver<float> solver(config, {testing::SoftMaterial(5e4, 0.3)});
-  testing::AddBlock<float>({0.47, -0.015, 0.02}, {0.53, 0.015, 0.05}, config.dx_m, 2, 1000.0,
-                           &solver.particles());
-  testing::AddBoardAndTable(&solver);
+  const auto block = testing::SoftBlockOnBoard(config);
+  Solver<float>& solver = *block;
   const CutResult cut = testing::RunCut(CutScenario{}, &solver);
   CHECK(cut.broken_particles == 0);
   CHECK(cut.side_violations == 0);
