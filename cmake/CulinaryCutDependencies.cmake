@@ -20,3 +20,9 @@ add_library(bullet_float64 INTERFACE)
 target_include_directories(bullet_float64 SYSTEM INTERFACE ${BULLET_INCLUDE_DIR})
 target_compile_definitions(bullet_float64 INTERFACE BT_USE_DOUBLE_PRECISION)
 target_link_libraries(bullet_float64 INTERFACE ${BULLET_FLOAT64_LIBRARIES})
+
+# Renderer: EGL + desktop OpenGL through libglvnd (CMake 3.25 has no GLES3 component).
+set(OpenGL_GL_PREFERENCE GLVND)
+find_package(OpenGL REQUIRED COMPONENTS OpenGL EGL)
+find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs videoio)
+find_package(assimp CONFIG REQUIRED)

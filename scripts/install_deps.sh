@@ -11,10 +11,12 @@ PACKAGES=(
   libeigen3-dev libbullet-dev liburdfdom-dev nlohmann-json3-dev
   # server
   libzmq3-dev cppzmq-dev libspdlog-dev libfmt-dev libcli11-dev
+  # renderer: headless EGL (Mesa llvmpipe without a GPU), image and video encoding, mesh files
+  libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri libopencv-dev libassimp-dev
   # tests and benchmarks
   catch2 libbenchmark-dev
   # Python client (Debian's packages: there is no PyPI)
-  python3 python3-grpcio python3-grpc-tools python3-protobuf python3-numpy python3-zmq python3-pytest
+  python3 python3-grpcio python3-grpc-tools python3-protobuf python3-numpy python3-zmq python3-pytest python3-opencv
   # plots in benchmarks, docs and examples
   python3-matplotlib
 )

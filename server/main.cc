@@ -1,5 +1,6 @@
 // culinarycut-server: a long-running simulation server. Start it once; clients connect over gRPC.
 #include <csignal>
+#include <cstdlib>
 #include <cstdio>
 #include <iostream>
 
@@ -10,6 +11,9 @@
 #include "server/version.h"
 
 int main(int argc, char** argv) {
+  // Many sessions run MPM on gRPC's threads at once: OpenMP threads that spin while waiting would
+  // steal the cores from each other, so they sleep instead (unless the user chose otherwise).
+  setenv("OMP_WAIT_POLICY", "PASSIVE", /*overwrite=*/0);
   culinarycut::server::ServerOptions options;
   std::string log_level = "info";
   CLI::App app{"CulinaryCut simulation server: a Franka Panda with a knife, served over gRPC (culinarycut.v1)"};

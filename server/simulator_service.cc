@@ -23,7 +23,9 @@ grpc::Status SimulatorService::GetServerInfo(grpc::ServerContext*, const v1::Get
   info->set_version(kServerVersion);
   info->set_build_id(kBuildId);
   info->set_protocol("culinarycut.v1");
-  for (const char* capability : {"robot", "snapshot", "health", "reflection", "tasks", "oracle"}) info->add_capabilities(capability);
+  for (const char* capability : {"robot", "snapshot", "health", "reflection", "tasks", "oracle", "mpm"}) {
+    info->add_capabilities(capability);
+  }
   if (telemetry_) {
     info->add_capabilities("telemetry");
     info->set_telemetry_endpoint(telemetry_->endpoint());
@@ -55,6 +57,7 @@ grpc::Status SimulatorService::CreateSession(grpc::ServerContext*, const v1::Cre
   StampToWire(0, 0.0, response->mutable_stamp());
   DescribeSpaces(*model, response);
   *response->mutable_resolved_scene() = SceneToWire(model->config);
+  if (model->food) ResolvedFoodToWire(*model->food, response->mutable_resolved_scene());
   spdlog::info("session {} created ({} sessions live)", session->id, sessions_->size());
   return grpc::Status::OK;
 }
@@ -74,6 +77,7 @@ grpc::Status SimulatorService::Reset(grpc::ServerContext*, const v1::ResetReques
   const RobotObservation observation = culinarycut::Observe(*session->model, session->state);
   StampToWire(observation.frame_id, observation.sim_time_s, response->mutable_stamp());
   ObservationToWire(observation, response->mutable_observation());
+  FoodObservationToWire(session->state, response->mutable_observation());
   response->set_seed(seed);
   PublishTelemetry(*session, observation);
   return grpc::Status::OK;
@@ -99,6 +103,7 @@ grpc::Status SimulatorService::Step(grpc::ServerContext*, const v1::StepRequest*
   const RobotObservation observation = culinarycut::Observe(*session->model, session->state);
   StampToWire(observation.frame_id, observation.sim_time_s, response->mutable_stamp());
   ObservationToWire(observation, response->mutable_observation());
+  FoodObservationToWire(session->state, response->mutable_observation());
   response->set_reward(0.0);  // no task yet: rewards arrive with the cutting tasks
   response->set_terminated(false);
   response->set_truncated(report.truncated);
@@ -113,6 +118,10 @@ grpc::Status SimulatorService::Step(grpc::ServerContext*, const v1::StepRequest*
   info->set_step_wall_time_ms(report.wall_time_ms);
   info->set_control_wall_time_ms(report.control_wall_time_ms);
   info->set_physics_wall_time_ms(report.physics_wall_time_ms);
+  info->set_mpm_substeps(static_cast<std::uint32_t>(report.mpm_substeps));
+  info->set_mpm_wall_time_ms(report.mpm_wall_time_ms);
+  info->set_topology_wall_time_ms(report.topology_wall_time_ms);
+  info->set_first_contact(report.first_contact);
   PublishTelemetry(*session, observation);
   return grpc::Status::OK;
 }
@@ -125,6 +134,7 @@ grpc::Status SimulatorService::Observe(grpc::ServerContext*, const v1::ObserveRe
   const RobotObservation observation = culinarycut::Observe(*session->model, session->state);
   StampToWire(observation.frame_id, observation.sim_time_s, response->mutable_stamp());
   ObservationToWire(observation, response->mutable_observation());
+  FoodObservationToWire(session->state, response->mutable_observation());
   return grpc::Status::OK;
 }
 
@@ -165,7 +175,21 @@ grpc::Status SimulatorService::RestoreSnapshot(grpc::ServerContext*, const v1::R
   const RobotObservation observation = culinarycut::Observe(*session->model, session->state);
   StampToWire(observation.frame_id, observation.sim_time_s, response->mutable_stamp());
   ObservationToWire(observation, response->mutable_observation());
+  FoodObservationToWire(session->state, response->mutable_observation());
   PublishTelemetry(*session, observation);
+  return grpc::Status::OK;
+}
+
+}  // namespace culinarycut::server
+
+namespace culinarycut::server {
+
+grpc::Status SimulatorService::GetSessionStats(grpc::ServerContext*, const v1::GetSessionStatsRequest* request,
+                                               v1::SessionStats* response) {
+  std::shared_ptr<Session> session;
+  if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
+  std::lock_guard<std::mutex> lock(session->mutex);
+  SessionStatsToWire(*session->model, session->state, response);
   return grpc::Status::OK;
 }
 

@@ -26,6 +26,7 @@ class SimulatorService final : public v1::Simulator::Service {
   grpc::Status CloseSession(grpc::ServerContext*, const v1::CloseSessionRequest*, v1::CloseSessionResponse*) override;
   grpc::Status SaveSnapshot(grpc::ServerContext*, const v1::SaveSnapshotRequest*, v1::SaveSnapshotResponse*) override;
   grpc::Status RestoreSnapshot(grpc::ServerContext*, const v1::RestoreSnapshotRequest*, v1::RestoreSnapshotResponse*) override;
+  grpc::Status GetSessionStats(grpc::ServerContext*, const v1::GetSessionStatsRequest*, v1::SessionStats*) override;
 
  private:
   void PublishTelemetry(const Session& session, const RobotObservation& observation);

@@ -140,6 +140,8 @@ grpc::Status TaskService::StartOracle(grpc::ServerContext*, const v1::StartOracl
       config.objects.push_back(
           ObjectBoxFromWire(request->objects(i), "objects[" + std::to_string(i) + "]"));
     }
+    // Without objects in the request, the oracle sees the scene's own food at rest.
+    if (config.objects.empty() && session->model->food) config.objects = session->model->food->objects;
     config.target_name = request->target_name();
     if (!request->control_mode().empty()) {
       const std::optional<ControlMode> mode = ParseControlMode(request->control_mode());

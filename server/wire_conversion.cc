@@ -27,20 +27,54 @@ v1::ArraySpec* AddArraySpec(v1::CreateSessionResponse* response, const std::stri
   return spec;
 }
 
+grpc::Status InvalidField(const std::string& message) {
+  return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, message);
+}
+
+grpc::Status FoodFromWire(const v1::FoodObject& wire, const std::string& field, FoodConfig* food) {
+  food->food = wire.food();
+  if (food->food.empty()) return InvalidField(field + ".food is empty; name a food, e.g. \"cucumber\"");
+  food->scale = wire.scale() == 0 ? 1.0 : wire.scale();
+  if (!(food->scale > 0.0 && food->scale <= 10.0)) return InvalidField(field + ".scale must be in (0, 10]");
+  const v1::Pose& pose = wire.pose();
+  if (pose.position_size() != 0) {
+    if (pose.position_size() != 3) return InvalidField(field + ".pose.position must have 3 values (m) or none");
+    food->position_m = Eigen::Vector3d(pose.position(0), pose.position(1), pose.position(2));
+    if (!food->position_m->allFinite()) return InvalidField(field + ".pose.position must be finite");
+  }
+  if (pose.quaternion_size() != 0) {
+    if (pose.quaternion_size() != 4) return InvalidField(field + ".pose.quaternion must have 4 values [w, x, y, z] or none");
+    const Eigen::Quaterniond q(pose.quaternion(0), pose.quaternion(1), pose.quaternion(2), pose.quaternion(3));
+    if (!q.coeffs().allFinite() || q.norm() < 1e-6) return InvalidField(field + ".pose.quaternion must be finite and non-zero");
+    food->orientation = q.normalized();
+  }
+  food->material = wire.material();
+  for (const auto& [key, value] : wire.material_overrides()) food->material_overrides[key] = value;
+  return grpc::Status::OK;
+}
+
 }  // namespace
 
 grpc::Status SceneFromWire(const v1::SceneSpec& wire, SceneConfig* config) {
-  if (wire.objects_size() > 0) return Unimplemented("scene.objects", "MPM food simulation");
   if (wire.cameras_size() > 0) return Unimplemented("scene.cameras", "camera rendering");
-  if (wire.has_task()) return Unimplemented("scene.task", "cutting tasks");
+  if (wire.has_task()) return Unimplemented("scene.task", "cutting tasks in the scene");
   if (wire.scene() == "kitchen") return Unimplemented("scene.scene=\"kitchen\"", "the kitchen scene");
   const v1::Effects& effects = wire.effects();
-  if (effects.mpm() || effects.plasticity() || effects.damage() || effects.friction() || effects.topology() ||
-      effects.force_sensing() || effects.safety_limiter()) {
-    return Unimplemented("scene.effects", "MPM cutting effects and the safety limiter");
-  }
+  if (effects.safety_limiter()) return Unimplemented("scene.effects.safety_limiter", "the safety limiter");
 
   SceneConfig parsed;
+  parsed.effects = EffectsConfig{effects.mpm(), effects.plasticity(), effects.damage(),
+                                 effects.friction(), effects.topology(), effects.force_sensing()};
+  for (int i = 0; i < wire.objects_size(); ++i) {
+    if (grpc::Status status = FoodFromWire(wire.objects(i), "scene.objects[" + std::to_string(i) + "]", &parsed.foods.emplace_back());
+        !status.ok()) {
+      return status;
+    }
+  }
+  const v1::MpmSettings& mpm = wire.mpm();
+  if (mpm.dx() != 0) parsed.mpm.dx_m = mpm.dx();
+  if (mpm.particles_per_cell() != 0) parsed.mpm.particles_per_cell = static_cast<int>(std::min<std::uint32_t>(mpm.particles_per_cell(), 1000));
+  if (mpm.cfl() != 0) parsed.mpm.cfl = mpm.cfl();
   parsed.seed = wire.seed();
   if (!wire.quality().empty()) parsed.quality = wire.quality();
   parsed.max_episode_steps = wire.max_episode_steps();
@@ -65,6 +99,26 @@ v1::SceneSpec SceneToWire(const SceneConfig& config) {
   robot->set_physics_frequency_hz(config.robot.physics_frequency_hz);
   robot->set_joint_stiffness(config.robot.joint_stiffness_per_s);
   for (double q : config.robot.initial_qpos_rad) robot->add_initial_qpos(q);
+  v1::Effects* effects = wire.mutable_effects();
+  effects->set_mpm(config.effects.mpm);
+  effects->set_plasticity(config.effects.plasticity);
+  effects->set_damage(config.effects.damage);
+  effects->set_friction(config.effects.friction);
+  effects->set_topology(config.effects.topology);
+  effects->set_force_sensing(config.effects.force_sensing);
+  for (const FoodConfig& food : config.foods) {
+    v1::FoodObject* object = wire.add_objects();
+    object->set_food(food.food);
+    object->set_scale(food.scale);
+    object->set_material(food.material);
+    for (const auto& [key, value] : food.material_overrides) (*object->mutable_material_overrides())[key] = value;
+    if (food.position_m) AssignVector(*food.position_m, object->mutable_pose()->mutable_position());
+    if (food.orientation) {
+      for (double c : {food.orientation->w(), food.orientation->x(), food.orientation->y(), food.orientation->z()}) {
+        object->mutable_pose()->add_quaternion(c);
+      }
+    }
+  }
   return wire;
 }
 
@@ -76,6 +130,62 @@ void ObservationToWire(const RobotObservation& observation, v1::Observation* wir
   AssignVector(observation.tcp_pose, wire->mutable_tcp_pose());
   AssignVector(observation.tcp_velocity, wire->mutable_tcp_velocity());
   AssignVector(observation.flange_pose, wire->mutable_flange_pose());
+  AssignVector(observation.wrist_wrench, wire->mutable_wrist_wrench());
+}
+
+void ResolvedFoodToWire(const FoodModel& food, v1::SceneSpec* wire) {
+  wire->mutable_mpm()->set_dx(food.resolution.dx_m);
+  wire->mutable_mpm()->set_particles_per_cell(static_cast<std::uint32_t>(food.resolution.particles_per_cell));
+  wire->mutable_mpm()->set_cfl(food.resolution.cfl);
+  for (int i = 0; i < wire->objects_size() && i < static_cast<int>(food.objects.size()); ++i) {
+    v1::Pose* pose = wire->mutable_objects(i)->mutable_pose();
+    pose->clear_position();
+    pose->clear_quaternion();
+    AssignVector(food.objects[i].pose.translation(), pose->mutable_position());
+    const Eigen::Quaterniond q(food.objects[i].pose.linear());
+    for (double c : {q.w(), q.x(), q.y(), q.z()}) pose->add_quaternion(c);
+    if (food.materials[i].name != wire->objects(i).material() && wire->objects(i).material().empty()) {
+      wire->mutable_objects(i)->set_material(food.materials[i].name);
+    }
+  }
+}
+
+void FoodObservationToWire(const State& state, v1::Observation* wire) {
+  if (!state.food) return;
+  v1::FoodObservation* food = wire->mutable_food();
+  food->set_knife_contact(state.food->contact_last_step);
+  food->set_mpm_awake(state.food->substeps_last_step > 0);
+  for (const mpm::Piece& piece : state.food->pieces) {
+    v1::FoodPiece* out = food->add_pieces();
+    out->set_object(piece.object);
+    out->set_particles(static_cast<std::uint32_t>(piece.particle_count));
+    out->set_volume(piece.volume_m3);
+    AssignVector(piece.centroid_m, out->mutable_centroid());
+    AssignVector(piece.bounds_m.min(), out->mutable_bounds_min());
+    AssignVector(piece.bounds_m.max(), out->mutable_bounds_max());
+  }
+}
+
+void SessionStatsToWire(const Model& model, const State& state, v1::SessionStats* wire) {
+  StampToWire(state.frame_id, state.sim_time_s, wire->mutable_stamp());
+  wire->set_mpm_allocated(state.food != nullptr && state.food->solver != nullptr);
+  if (model.food) {
+    wire->set_mpm_dx(model.food->resolution.dx_m);
+    wire->set_mpm_particles_per_cell(model.food->resolution.particles_per_cell);
+    wire->set_mpm_cfl(model.food->resolution.cfl);
+  }
+  if (state.food && state.food->solver) {
+    wire->set_mpm_particles(state.food->solver->particles().size());
+    wire->set_mpm_substeps(state.food->substeps);
+    wire->set_has_contact(state.food->first_contact_frame.has_value());
+    wire->set_first_contact_frame(state.food->first_contact_frame.value_or(0));
+  }
+  const char* names[] = {"control", "physics", "mpm", "topology"};
+  static_assert(sizeof(names) / sizeof(names[0]) == static_cast<int>(Stage::kCount), "one name per stage");
+  for (int stage = 0; stage < static_cast<int>(Stage::kCount); ++stage) {
+    (*wire->mutable_stage_wall_time_s())[names[stage]] = state.timers.total_seconds[stage];
+    (*wire->mutable_stage_calls())[names[stage]] = state.timers.calls[stage];
+  }
 }
 
 v1::TelemetryFrame TelemetryToWire(const std::string& session_id, const RobotObservation& observation) {
@@ -85,6 +195,7 @@ v1::TelemetryFrame TelemetryToWire(const std::string& session_id, const RobotObs
   AssignVector(observation.qpos_rad, frame.mutable_qpos());
   AssignVector(observation.qvel_rad_s, frame.mutable_qvel());
   AssignVector(observation.tcp_pose, frame.mutable_tcp_pose());
+  AssignVector(observation.wrist_wrench, frame.mutable_wrist_wrench());
   return frame;
 }
 
@@ -105,6 +216,8 @@ void DescribeSpaces(const Model& model, v1::CreateSessionResponse* response) {
   AddArraySpec(response, "extra/tcp_pose", 7, "knife TCP [x, y, z] (m) and [qw, qx, qy, qz], world frame");
   AddArraySpec(response, "extra/tcp_velocity", 6, "knife TCP [vx, vy, vz] (m/s), [wx, wy, wz] (rad/s), world");
   AddArraySpec(response, "extra/flange_pose", 7, "flange [x, y, z] (m) and [qw, qx, qy, qz], world frame");
+  AddArraySpec(response, "extra/wrist_wrench", 6,
+               "food on knife at the flange, flange frame: [fx, fy, fz] (N), [tx, ty, tz] (N m); zeros without food");
 
   for (ControlMode mode : AllControlModes()) {
     const ActionBounds bounds = ActionBoundsFor(model, mode);

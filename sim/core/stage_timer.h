@@ -7,7 +7,8 @@
 
 namespace culinarycut {
 
-enum class Stage { kControl = 0, kPhysics, kCount };
+// Robot control, the robot's physics substeps, the food's MPM substeps, piece detection.
+enum class Stage { kControl = 0, kPhysics, kMpm, kTopology, kCount };
 
 struct StageTimers {
   std::array<double, static_cast<int>(Stage::kCount)> total_seconds{};

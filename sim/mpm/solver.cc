@@ -140,6 +140,16 @@ void Solver<Real>::SetTable(double height_m) {
 }
 
 template <typename Real>
+std::uint64_t Solver<Real>::substeps_taken() const {
+  return workspace_->substeps_since_reorder;
+}
+
+template <typename Real>
+void Solver<Real>::RestoreSubstepsTaken(std::uint64_t count) {
+  workspace_->substeps_since_reorder = count;
+}
+
+template <typename Real>
 double Solver<Real>::StableTimestep() const {
   double fastest_m_s = 0.0;
   for (const Material& material : materials_) {

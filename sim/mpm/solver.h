@@ -79,6 +79,11 @@ class Solver {
   // Advances the food by dt_s with the colliders at their current motion.
   SubstepDiagnostics Substep(double dt_s);
 
+  // Substeps taken so far. It decides when the particles are next reordered, so a snapshot keeps
+  // it and a restore puts it back to replay bit for bit.
+  std::uint64_t substeps_taken() const;
+  void RestoreSubstepsTaken(std::uint64_t count);
+
  private:
   struct Grid;        // the bounded grid box (solver.cc)
   struct Workspace;   // per-substep scratch arrays, reused (solver.cc)

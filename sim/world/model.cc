@@ -64,6 +64,12 @@ std::shared_ptr<const Model> CompileModel(const SceneConfig& config, const Robot
   model->initial_qpos_rad = Eigen::Map<const Eigen::VectorXd>(initial.data(), static_cast<long>(initial.size()));
   if (const auto error = CheckJointPositions(robot, initial, "scene.robot.initial_qpos")) throw SceneError(*error);
 
+  const EffectsConfig& effects = config.effects;
+  if (effects.mpm || !config.foods.empty() || effects.plasticity || effects.damage || effects.friction ||
+      effects.topology || effects.force_sensing) {
+    model->food = CompileFoodModel(config, model->layout);  // validates the effects against the foods
+  }
+
   std::uint64_t hash = 1469598103934665603ULL;
   HashBytes(&hash, &model->control_timestep_s, sizeof(double));
   HashBytes(&hash, &model->substeps_per_control_step, sizeof(int));
@@ -71,6 +77,14 @@ std::shared_ptr<const Model> CompileModel(const SceneConfig& config, const Robot
   HashBytes(&hash, robot.name.data(), robot.name.size());
   for (const auto& origin : robot.joint_origins) HashBytes(&hash, origin.data(), 16 * sizeof(double));
   for (const auto& link : robot.links) HashBytes(&hash, &link.mass_kg, sizeof(double));
+  if (model->food) {
+    const mpm::Particles<float>& particles = model->food->initial_particles;
+    const std::uint64_t count = particles.size();
+    HashBytes(&hash, &count, sizeof(count));
+    for (int axis = 0; axis < 3; ++axis) HashBytes(&hash, particles.position[axis].data(), count * sizeof(float));
+    HashBytes(&hash, &model->food->solver.dx_m, sizeof(double));
+    HashBytes(&hash, &model->food->solver.cfl, sizeof(double));
+  }
   model->fingerprint = hash;
   return model;
 }

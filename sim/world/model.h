@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 
 #include "sim/robot/robot_description.h"
+#include "sim/world/food_model.h"
 #include "sim/world/scene_config.h"
 #include "sim/world/scene_layout.h"
 
@@ -39,6 +40,7 @@ struct Model {
   double physics_timestep_s = 0.002;
   int substeps_per_control_step = 25;
   Eigen::VectorXd initial_qpos_rad;
+  std::optional<FoodModel> food;        // only when the scene declares MPM food
   std::uint64_t fingerprint = 0;        // changes whenever anything that shapes a State changes
 };
 

@@ -15,6 +15,15 @@ RobotObservation Observe(const Model& model, const State& state) {
   observation.tcp_pose = PoseToVector(last_link * model.tcp_in_last_link);
   observation.flange_pose = PoseToVector(last_link * model.flange_in_last_link);
   observation.tcp_velocity = TipJacobian(model.robot, observation.qpos_rad, model.tcp_in_last_link) * observation.qvel_rad_s;
+  if (state.food) {
+    // The wrench acts at the TCP; moved to the flange origin and expressed in the flange frame.
+    const Eigen::Isometry3d flange = last_link * model.flange_in_last_link;
+    const Eigen::Vector3d tcp_from_flange_m = (last_link * model.tcp_in_last_link).translation() - flange.translation();
+    const KnifeWrench& wrench = state.food->control_step_wrench;
+    const Eigen::Matrix3d world_to_flange = flange.linear().transpose();
+    observation.wrist_wrench << world_to_flange * wrench.force_n,
+        world_to_flange * (wrench.torque_nm + tcp_from_flange_m.cross(wrench.force_n));
+  }
   return observation;
 }
 

@@ -20,6 +20,9 @@ struct RobotObservation {
   Vector7d tcp_pose;        // [x, y, z, qw, qx, qy, qz], world
   Vector6d tcp_velocity;    // [vx, vy, vz] (m/s) and [wx, wy, wz] (rad/s), world
   Vector7d flange_pose;     // [x, y, z, qw, qx, qy, qz], world
+  // The food's wrench on the knife over the last control step as a wrist sensor at the flange
+  // reads it: [fx, fy, fz] (N), [tx, ty, tz] (N m), flange frame. Zero without food.
+  Vector6d wrist_wrench = Vector6d::Zero();
 };
 
 // Precondition: state has been reset.

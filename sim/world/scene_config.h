@@ -2,9 +2,12 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <Eigen/Geometry>
 
 namespace culinarycut {
 
@@ -15,12 +18,64 @@ struct RobotConfig {
   double joint_stiffness_per_s = 20.0;     // PD position gain (1/s): commanded qdot = k (q_target - q)
 };
 
+// Which parts of the simulation a scene asks for; what is not declared is not built.
+struct EffectsConfig {
+  bool mpm = false;            // simulate the food objects (MLS-MPM); required when there are objects
+  bool plasticity = false;     // J2 plasticity of the food
+  bool damage = false;         // fracture: without it the knife only presses the food
+  bool friction = false;       // Coulomb friction between food and knife / board
+  bool topology = false;       // detect the pieces after every control step (paper's topology update)
+  bool force_sensing = false;  // food -> knife wrench, applied to the robot and reported at the wrist
+};
+
+// One food object on the board.
+struct FoodConfig {
+  std::string food;                                // banana, cucumber, apple, peach, melon, orange, strawberry
+  double scale = 1.0;                              // multiplies the food's typical size
+  std::optional<Eigen::Vector3d> position_m;       // bounding-box centre; default: on the board, resting on it
+  std::optional<Eigen::Quaterniond> orientation;   // default: long axis left-right (world y), lying
+  std::string material;                            // preset name; empty: the food's own
+  std::map<std::string, double> material_overrides;  // youngs_modulus_pa, poisson_ratio, density_kg_m3, ...
+};
+
+// Explicit MPM resolution; each set value overrides the quality preset's.
+struct MpmResolutionConfig {
+  std::optional<double> dx_m;
+  std::optional<int> particles_per_cell;
+  std::optional<double> cfl;
+};
+
+// A cutting task: a free-form instruction, or the fields of a cut spec.
+struct TaskConfig {
+  std::string instruction;
+  std::string cut_style;   // normal, bias, guillotine, saw
+  std::string cut_state;   // middle, ratio, split
+  double ratio = 0.0;
+  int split_pieces = 0;
+  bool empty() const { return instruction.empty() && cut_style.empty() && cut_state.empty(); }
+};
+
+// A camera; a name of a default camera (front, left, right, wrist) without a pose takes its pose.
+struct CameraConfig {
+  std::string name;
+  std::optional<Eigen::Isometry3d> pose;   // OpenCV camera frame in the world (x right, y down, z forward)
+  double fov_y_deg = 0.0;                  // 0: the default camera's or 45 deg
+  int width = 0;                           // 0: 224
+  int height = 0;
+  std::vector<std::string> channels;       // rgb, depth, segmentation; empty: rgb
+};
+
 struct SceneConfig {
   std::uint64_t seed = 0;
   RobotConfig robot;
   std::string scene = "table";
   std::string quality = "standard";        // MPM accuracy preset: draft, standard, fine (no effect without food)
   std::uint32_t max_episode_steps = 0;     // 0: never truncate
+  EffectsConfig effects;
+  std::vector<FoodConfig> foods;
+  MpmResolutionConfig mpm;
+  TaskConfig task;
+  std::vector<CameraConfig> cameras;
 };
 
 // The knife-down "ready" pose (rad) used when initial_qpos is empty.

@@ -1,5 +1,8 @@
 #include "sim/world/snapshot.h"
 
+#include "sim/world/byte_stream.h"
+#include "sim/world/food_snapshot.h"
+
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -8,62 +11,7 @@
 namespace culinarycut {
 namespace {
 
-constexpr std::array<char, 8> kMagic = {'C', 'C', 'S', 'N', 'A', 'P', '0', '1'};
-
-class Writer {
- public:
-  template <typename T>
-  void Put(const T& value) { bytes_.append(reinterpret_cast<const char*>(&value), sizeof(T)); }
-  void PutVector(const Eigen::VectorXd& v) {
-    Put(static_cast<std::uint32_t>(v.size()));
-    bytes_.append(reinterpret_cast<const char*>(v.data()), sizeof(double) * v.size());
-  }
-  void PutString(const std::string& s) {
-    Put(static_cast<std::uint32_t>(s.size()));
-    bytes_.append(s);
-  }
-  std::string Take() { return std::move(bytes_); }
-
- private:
-  std::string bytes_;
-};
-
-class Reader {
- public:
-  explicit Reader(const std::string& bytes) : bytes_(bytes) {}
-  template <typename T>
-  T Get() {
-    Need(sizeof(T));
-    T value;
-    std::memcpy(&value, bytes_.data() + offset_, sizeof(T));
-    offset_ += sizeof(T);
-    return value;
-  }
-  Eigen::VectorXd GetVector(std::uint32_t expected_size) {
-    const auto size = Get<std::uint32_t>();
-    if (size != expected_size) throw SnapshotError("corrupt: a joint vector has the wrong length");
-    Eigen::VectorXd v(size);
-    Need(sizeof(double) * size);
-    std::memcpy(v.data(), bytes_.data() + offset_, sizeof(double) * size);
-    offset_ += sizeof(double) * size;
-    return v;
-  }
-  std::string GetString() {
-    const auto size = Get<std::uint32_t>();
-    Need(size);
-    std::string s = bytes_.substr(offset_, size);
-    offset_ += size;
-    return s;
-  }
-  bool AtEnd() const { return offset_ == bytes_.size(); }
-
- private:
-  void Need(size_t n) const {
-    if (offset_ + n > bytes_.size()) throw SnapshotError("snapshot is truncated");
-  }
-  const std::string& bytes_;
-  size_t offset_ = 0;
-};
+constexpr std::array<char, 8> kMagic = {'C', 'C', 'S', 'N', 'A', 'P', '0', '2'};
 
 // Refuses values no simulation could have produced, so a corrupted snapshot cannot poison a session.
 void CheckPlausible(const Model& model, double sim_time_s, const Eigen::VectorXd& q, const Eigen::VectorXd& qdot,
@@ -87,7 +35,7 @@ void CheckPlausible(const Model& model, double sim_time_s, const Eigen::VectorXd
 }  // namespace
 
 std::string SaveSnapshot(const Model& model, const State& state) {
-  Writer writer;
+  ByteWriter writer;
   writer.Put(kMagic);
   writer.Put(model.fingerprint);
   writer.Put(state.frame_id);
@@ -100,11 +48,13 @@ std::string SaveSnapshot(const Model& model, const State& state) {
   writer.PutVector(state.physics->JointPositions());
   writer.PutVector(state.physics->JointVelocities());
   writer.PutVector(state.q_target_rad);
+  writer.Put(static_cast<std::uint8_t>(state.food != nullptr));
+  if (state.food) WriteFoodState(*state.food, &writer);
   return writer.Take();
 }
 
 void RestoreSnapshot(const Model& model, const std::string& bytes, State* state) {
-  Reader reader(bytes);
+  ByteReader reader(bytes);
   if (reader.Get<std::array<char, 8>>() != kMagic) throw SnapshotError("not a CulinaryCut snapshot (bad header)");
   if (reader.Get<std::uint64_t>() != model.fingerprint) {
     throw SnapshotError("taken in a session with a different scene, or corrupt; restore it into a session "
@@ -123,6 +73,9 @@ void RestoreSnapshot(const Model& model, const std::string& bytes, State* state)
   const Eigen::VectorXd q = reader.GetVector(dof);
   const Eigen::VectorXd qdot = reader.GetVector(dof);
   const Eigen::VectorXd q_target = reader.GetVector(dof);
+  const bool has_food = reader.Get<std::uint8_t>() != 0;
+  if (has_food != model.food.has_value()) throw SnapshotError("corrupt: food state does not match the scene");
+  std::unique_ptr<FoodState> food = has_food ? ReadFoodState(*model.food, model.layout, &reader) : nullptr;
   if (!reader.AtEnd()) throw SnapshotError("corrupt: trailing bytes");
   CheckPlausible(model, sim_time, q, qdot, q_target);
 
@@ -136,6 +89,7 @@ void RestoreSnapshot(const Model& model, const std::string& bytes, State* state)
   state->episode_steps = episode_steps;
   state->rng = rng;
   state->q_target_rad = q_target;
+  state->food = std::move(food);
 }
 
 }  // namespace culinarycut

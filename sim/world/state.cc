@@ -16,6 +16,10 @@ void ResetState(const Model& model, State* state, std::uint64_t seed, const std:
   state->episode_steps = 0;
   state->rng.seed(seed);
   state->q_target_rad = q;
+  if (model.food) {
+    if (!state->food) state->food = std::make_unique<FoodState>();
+    ResetFood(*model.food, model.layout, state->food.get());
+  }
 }
 
 }  // namespace culinarycut

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include "sim/core/stage_timer.h"
+#include "sim/world/food_state.h"
 #include "sim/world/model.h"
 #include "sim/world/physics_world.h"
 
@@ -22,6 +23,7 @@ struct State {
   std::mt19937_64 rng;                    // the only randomness; seeded by Reset
   Eigen::VectorXd q_target_rad;           // what the joint PD controller tracks
   StageTimers timers;
+  std::unique_ptr<FoodState> food;        // only when the model has food
 
   bool has_been_reset() const { return physics != nullptr; }
 };

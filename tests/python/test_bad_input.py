@@ -94,10 +94,10 @@ def test_step_and_observe_before_reset_are_failed_precondition(client, session):
 
 
 def test_unsupported_scene_feature_is_unimplemented(client, session):
-    if "mpm" in client.server_info().capabilities:
-        pytest.fail("this server claims MPM: replace this test with one for a feature it lacks")
+    if "safety_limiter" in client.server_info().capabilities:
+        pytest.fail("this server claims the safety limiter: replace this test with one for a feature it lacks")
     with pytest.raises(errors.Unimplemented):
-        client.create_session({"effects": {"mpm": True}})
+        client.create_session({"effects": {"safety_limiter": True}})
     assert_still_serving(client, session, frame(client, session))
 
 

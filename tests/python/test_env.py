@@ -14,7 +14,7 @@ PHYSICS_HZ = 500.0  # server default physics rate
 PANDA_LOW = np.array([-2.8973, -1.7628, -2.8973, -3.0718, -2.8973, -0.0175, -2.8973])
 PANDA_HIGH = np.array([2.8973, 1.7628, 2.8973, -0.0698, 2.8973, 3.7525, 2.8973])
 OBS_SHAPES = {"agent": {"qpos": (7,), "qvel": (7,), "qpos_target": (7,)},
-              "extra": {"tcp_pose": (7,), "tcp_velocity": (6,), "flange_pose": (7,)}}
+              "extra": {"tcp_pose": (7,), "tcp_velocity": (6,), "flange_pose": (7,), "wrist_wrench": (6,)}}
 
 
 def assert_obs_matches_space(space, obs):

@@ -182,8 +182,11 @@ TEST_CASE("bad input gets a clear status and the server keeps serving", "[server
   bad_scene.mutable_robot()->set_physics_frequency_hz(333);
   CHECK_THAT(MessageOf([&] { client.CreateSession(bad_scene); }), Catch::Contains("physics_frequency_hz"));
   v1::SceneSpec food_scene;
-  food_scene.add_objects()->set_food("banana");
-  CHECK(CodeOf([&] { client.CreateSession(food_scene); }) == grpc::StatusCode::UNIMPLEMENTED);
+  food_scene.add_objects()->set_food("banana");  // food without effects.mpm
+  CHECK_THAT(MessageOf([&] { client.CreateSession(food_scene); }), Catch::Contains("effects.mpm"));
+  v1::SceneSpec limiter_scene;
+  limiter_scene.mutable_effects()->set_safety_limiter(true);
+  CHECK(CodeOf([&] { client.CreateSession(limiter_scene); }) == grpc::StatusCode::UNIMPLEMENTED);
   still_serving();
 }
 

@@ -43,7 +43,20 @@ def observation_to_dict(obs: simulator_pb2.Observation) -> dict[str, dict[str, n
             "tcp_pose": _f64(obs.tcp_pose),              # [m x3, quaternion wxyz]
             "tcp_velocity": _f64(obs.tcp_velocity),      # [m/s x3, rad/s x3]
             "flange_pose": _f64(obs.flange_pose),        # [m x3, quaternion wxyz]
+            # food -> knife wrench at the flange, flange frame: [N x3, N m x3]; zeros without food
+            "wrist_wrench": _f64(obs.wrist_wrench),
         },
+    }
+
+
+def food_to_dict(obs: simulator_pb2.Observation) -> dict[str, Any]:
+    """The food part of an observation (variable length, so it travels in `info`, not in the spaces)."""
+    return {
+        "pieces": [{"object": int(p.object), "particles": int(p.particles), "volume": float(p.volume),  # m^3
+                    "centroid": _f64(p.centroid), "bounds_min": _f64(p.bounds_min),  # m, world
+                    "bounds_max": _f64(p.bounds_max)} for p in obs.food.pieces],
+        "knife_contact": bool(obs.food.knife_contact),
+        "mpm_awake": bool(obs.food.mpm_awake),
     }
 
 
@@ -60,7 +73,11 @@ def step_info_to_dict(info: simulator_pb2.StepInfo) -> dict[str, Any]:
         "ik_orientation_error": float(info.ik_orientation_error),  # rad
         "step_wall_time_ms": float(info.step_wall_time_ms),
         "control_wall_time_ms": float(info.control_wall_time_ms),  # action -> joint targets (IK)
-        "physics_wall_time_ms": float(info.physics_wall_time_ms),  # physics substeps
+        "physics_wall_time_ms": float(info.physics_wall_time_ms),  # robot physics substeps
+        "mpm_substeps": int(info.mpm_substeps),
+        "mpm_wall_time_ms": float(info.mpm_wall_time_ms),
+        "topology_wall_time_ms": float(info.topology_wall_time_ms),
+        "first_contact": bool(info.first_contact),                 # the contact phase began
     }
 
 
@@ -116,6 +133,10 @@ class Client:
     def restore_snapshot(self, session_id: str, snapshot: bytes) -> simulator_pb2.RestoreSnapshotResponse:
         request = simulator_pb2.RestoreSnapshotRequest(session_id=session_id, snapshot=snapshot)
         return self._call(self._stub.RestoreSnapshot, request)
+
+    def session_stats(self, session_id: str) -> simulator_pb2.SessionStats:
+        """What the session built and ran: MPM allocation, substep counts, stage times."""
+        return self._call(self._stub.GetSessionStats, simulator_pb2.GetSessionStatsRequest(session_id=session_id))
 
     def close(self) -> None:
         self._channel.close()

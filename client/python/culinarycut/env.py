@@ -5,7 +5,7 @@ from typing import Any
 
 import numpy as np
 
-from culinarycut.client import (Client, observation_to_dict, stamp_to_dict, step_info_to_dict)
+from culinarycut.client import (Client, food_to_dict, observation_to_dict, stamp_to_dict, step_info_to_dict)
 from culinarycut.errors import InvalidArgument, NotFound
 from culinarycut.spaces import box_from_array_spec, dict_from_array_specs
 
@@ -122,6 +122,8 @@ class CulinaryCutEnv:
             raise
         info = stamp_to_dict(response.stamp)
         info.update(step_info_to_dict(response.info))
+        if response.observation.HasField("food"):
+            info["food"] = food_to_dict(response.observation)
         return (observation_to_dict(response.observation), float(response.reward),
                 bool(response.terminated), bool(response.truncated), info)
 

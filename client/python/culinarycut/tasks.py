@@ -164,7 +164,7 @@ class TaskClient:
             json_format.ParseDict(dict(tolerances), request.tolerances)
         return score_to_dict(self._call(self._stub.ScoreCuts, request).score)
 
-    def start_oracle(self, session_id: str, objects: Sequence, *, instruction: str | None = None,
+    def start_oracle(self, session_id: str, objects: Sequence = (), *, instruction: str | None = None,
                      spec=None, target_name: str = "", control_mode: str = "", options=None,
                      seed: int | None = None, sample_rate_hz: float = 0.0) -> dict[str, Any]:
         request = task_pb2.StartOracleRequest(session_id=session_id,

@@ -1,0 +1,148 @@
+#include "sim/world/food_model.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#include "sim/mpm/food_shapes.h"
+#include "sim/world/model.h"
+
+namespace culinarycut {
+namespace {
+
+// The preset with the scene's overrides, validated.
+mpm::Material ResolveFoodMaterial(const FoodConfig& food, const std::string& field) {
+  mpm::Material material;
+  try {
+    material = mpm::MaterialPreset(food.material.empty() ? food.food : food.material);
+  } catch (const std::invalid_argument& error) {
+    throw SceneError(field + ".material: " + error.what());
+  }
+  for (const auto& [key, value] : food.material_overrides) {
+    if (key == "youngs_modulus_pa") material.youngs_modulus_pa = value;
+    else if (key == "poisson_ratio") material.poisson_ratio = value;
+    else if (key == "density_kg_m3") material.density_kg_m3 = value;
+    else if (key == "yield_stress_pa") material.yield_stress_pa = value;
+    else if (key == "friction_coefficient") material.friction_coefficient = value;
+    else if (key == "viscoplastic_relaxation_time_s") material.viscoplastic_relaxation_time_s = value;
+    else {
+      throw SceneError(field + ".material_overrides: unknown key '" + key +
+                       "'; use youngs_modulus_pa, poisson_ratio, density_kg_m3, yield_stress_pa, "
+                       "friction_coefficient or viscoplastic_relaxation_time_s");
+    }
+  }
+  try {
+    mpm::ValidateMaterial(material);
+  } catch (const std::invalid_argument& error) {
+    throw SceneError(field + ".material_overrides: " + error.what());
+  }
+  return material;
+}
+
+// Where a food lies: the given pose, or resting on the board, objects side by side along x, with
+// the long axis left-right (world y) so "from the left" runs along the board's width.
+Eigen::Isometry3d FoodPose(const FoodConfig& food, const mpm::FoodShape& shape, const SceneLayout& layout,
+                           int index, int count) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = food.orientation ? food.orientation->normalized().toRotationMatrix()
+                                   : Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  if (food.position_m) {
+    pose.translation() = *food.position_m;
+    return pose;
+  }
+  // Lowest point of the shape's box in its pose, so the food rests on the board.
+  const Eigen::AlignedBox3d local = shape.LocalBounds();
+  double lowest_m = 0.0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Eigen::Vector3d world = pose.linear() * local.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner));
+    lowest_m = std::min(lowest_m, world.z());
+  }
+  const double spacing_m = 0.12;  // between neighbouring objects along x
+  const double board_top_m = layout.board_center_m.z() + 0.5 * layout.board_size_m.z();
+  pose.translation() = Eigen::Vector3d(layout.board_center_m.x() + (index - 0.5 * (count - 1)) * spacing_m,
+                                       layout.board_center_m.y(), board_top_m - lowest_m);
+  return pose;
+}
+
+void CheckEffects(const SceneConfig& config) {
+  const EffectsConfig& effects = config.effects;
+  if (effects.mpm) {
+    if (config.foods.empty()) throw SceneError("scene.effects.mpm is set but scene.objects is empty: add a food object");
+    return;
+  }
+  if (!config.foods.empty()) {
+    throw SceneError("scene.objects needs scene.effects.mpm = true: food objects are simulated with MPM");
+  }
+  const std::pair<bool, const char*> needs_mpm[] = {{effects.plasticity, "plasticity"}, {effects.damage, "damage"},
+                                                    {effects.friction, "friction"}, {effects.topology, "topology"},
+                                                    {effects.force_sensing, "force_sensing"}};
+  for (const auto& [on, name] : needs_mpm) {
+    if (on) throw SceneError(std::string("scene.effects.") + name + " needs scene.effects.mpm = true and a food object");
+  }
+}
+
+}  // namespace
+
+FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout) {
+  CheckEffects(config);
+  FoodModel food_model;
+  food_model.resolution = ResolveMpmResolution(config.quality, config.mpm);
+  const MpmResolution& resolution = food_model.resolution;
+  mpm::SolverConfig& solver = food_model.solver;
+  solver.dx_m = resolution.dx_m;
+  solver.cfl = resolution.cfl;
+  solver.gravity_m_s2 = layout.gravity_m_s2;
+  solver.threads = static_cast<int>(std::max(1u, std::min(2u, std::thread::hardware_concurrency())));
+  solver.effects.plasticity = config.effects.plasticity;
+  solver.effects.damage = config.effects.damage;
+  solver.effects.friction = config.effects.friction;
+  solver.effects.force_sensing = config.effects.force_sensing;
+  solver.effects.two_sided_blade = true;
+  // A little grid damping lets the food come to rest on the board, so MPM can sleep again.
+  solver.grid_damping_per_s = 2.0;
+  food_model.topology_update = config.effects.topology;
+  food_model.topology.link_distance_m = 0.75 * resolution.dx_m;
+  food_model.topology.min_piece_particles = 20;
+  food_model.topology.separate_blade_sides = false;  // damage alone separates pieces
+  food_model.particle_spacing_m = resolution.dx_m / std::cbrt(static_cast<double>(resolution.particles_per_cell));
+
+  mpm::SamplingOptions sampling;
+  sampling.dx_m = resolution.dx_m;
+  sampling.particles_per_cell = resolution.particles_per_cell;
+  sampling.seed = config.seed;
+  const int count = static_cast<int>(config.foods.size());
+  for (int i = 0; i < count; ++i) {
+    const FoodConfig& food = config.foods[i];
+    const std::string field = "scene.objects[" + std::to_string(i) + "]";
+    std::unique_ptr<mpm::FoodShape> shape;
+    try {
+      shape = mpm::MakeFoodShape(food.food, food.scale);
+    } catch (const std::invalid_argument& error) {
+      throw SceneError(field + ": " + error.what());
+    }
+    food_model.materials.push_back(ResolveFoodMaterial(food, field));
+    const Eigen::Isometry3d pose = FoodPose(food, *shape, layout, i, count);
+    if (!pose.translation().allFinite()) throw SceneError(field + ".pose.position must be finite");
+    const std::size_t added = mpm::SampleFood(*shape, pose, food_model.materials.back().density_kg_m3,
+                                              static_cast<std::uint16_t>(i), static_cast<std::uint16_t>(i), sampling,
+                                              &food_model.initial_particles);
+    if (added == 0) {
+      throw SceneError(field + ": no particle fits in the " + food.food + " at dx = " + std::to_string(resolution.dx_m) +
+                       " m; use a finer scene.quality or a larger scale");
+    }
+    if (food_model.initial_particles.size() > kMaxFoodParticles) {
+      throw SceneError(field + ": the foods need more than " + std::to_string(kMaxFoodParticles) +
+                       " particles; use a coarser scene.quality, fewer particles_per_cell or a smaller scale");
+    }
+    task::ObjectBox box;
+    box.name = food.food + "_" + std::to_string(i);
+    box.food = food.food;
+    box.pose = pose;
+    box.extent_m = shape->LocalBounds().sizes();
+    food_model.objects.push_back(box);
+  }
+  return food_model;
+}
+
+}  // namespace culinarycut

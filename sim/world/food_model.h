@@ -1,0 +1,46 @@
+// The compiled food part of a Model: the MPM solver settings, one material per food object, the
+// initial particle set and each object's box for the task logic. Absent (std::nullopt in Model)
+// when the scene declares no MPM, so a robot-only scene allocates nothing of it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "sim/mpm/colliders.h"
+#include "sim/mpm/materials.h"
+#include "sim/mpm/particles.h"
+#include "sim/mpm/solver_config.h"
+#include "sim/mpm/topology.h"
+#include "sim/task/object_box.h"
+#include "sim/world/quality_preset.h"
+#include "sim/world/scene_config.h"
+#include "sim/world/scene_layout.h"
+
+namespace culinarycut {
+
+struct FoodModel {
+  MpmResolution resolution;
+  mpm::SolverConfig solver;
+  std::vector<mpm::Material> materials;      // materials[i] belongs to object i
+  mpm::Particles<float> initial_particles;   // at rest, undeformed; copied into each episode
+  std::vector<task::ObjectBox> objects;      // objects[i]: name "<food>_<i>", pose and extent at rest
+  mpm::KnifeGeometry knife;                  // in the knife TCP frame (matches the robot's knife)
+  mpm::TopologyOptions topology;
+  bool topology_update = false;              // detect pieces after every control step
+  double particle_spacing_m = 0.0;           // dx / ppc^(1/3)
+  // MPM wakes up when the knife comes within this distance (m) of the food's bounding box.
+  double activation_margin_m = 0.02;
+  // ... and sleeps again when the knife is away and the food's RMS speed stays under this (m/s)
+  // for rest_duration_s.
+  double rest_speed_m_s = 0.005;
+  double rest_duration_s = 0.05;
+};
+
+// Largest food a session may hold; more needs a coarser quality or a smaller scale.
+inline constexpr std::size_t kMaxFoodParticles = 2'000'000;
+
+// Builds the food model. Throws SceneError naming the field at fault (unknown food or material,
+// bad override, an object off the board, too many particles, an effect without effects.mpm).
+FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout);
+
+}  // namespace culinarycut

@@ -1,0 +1,85 @@
+#include "sim/world/food_step.h"
+
+#include <cmath>
+
+namespace culinarycut {
+namespace {
+
+// Whether any part of the knife at `tcp` is within the model's activation margin of the food.
+bool KnifeNearFood(const FoodModel& model, const Eigen::Isometry3d& tcp, FoodState* state) {
+  mpm::RigidMotion motion;
+  motion.pose = tcp;
+  state->solver->SetKnifeMotion(motion);
+  const Eigen::AlignedBox3d food = state->particle_bounds.cast<double>();
+  const mpm::KnifeSdf& knife = *state->solver->knife();
+  return knife.BladeBounds(model.activation_margin_m).intersects(food) ||
+         knife.HandleBounds(model.activation_margin_m).intersects(food);
+}
+
+// The knife's pose at fraction s in [0, 1] of the step: position linear, rotation spherical.
+Eigen::Isometry3d Interpolate(const Eigen::Isometry3d& start, const Eigen::Isometry3d& end, double s) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = (1.0 - s) * start.translation() + s * end.translation();
+  const Eigen::Quaterniond q0(start.linear());
+  const Eigen::Quaterniond q1(end.linear());
+  pose.linear() = q0.slerp(s, q1).toRotationMatrix();
+  return pose;
+}
+
+double TotalMass(const mpm::Particles<float>& particles) {
+  double mass_kg = 0.0;
+  for (const float m : particles.mass) mass_kg += m;
+  return mass_kg;
+}
+
+}  // namespace
+
+FoodStepReport AdvanceFood(const FoodModel& model, const Eigen::Isometry3d& tcp_start,
+                           const Eigen::Isometry3d& tcp_end, double duration_s, FoodState* state) {
+  FoodStepReport report;
+  state->wrench = KnifeWrench{};
+  state->knife_speed_factor = 1.0;
+  const bool near = KnifeNearFood(model, tcp_end, state) || KnifeNearFood(model, tcp_start, state);
+  if (!near && !state->awake) return report;
+  state->awake = true;
+
+  mpm::Solver<float>& solver = *state->solver;
+  const int substeps = std::max(1, static_cast<int>(std::ceil(duration_s / solver.StableTimestep())));
+  const double dt_s = duration_s / substeps;
+  mpm::RigidMotion motion;
+  motion.linear_velocity_m_s = (tcp_end.translation() - tcp_start.translation()) / duration_s;
+  const Eigen::AngleAxisd turn(tcp_end.linear() * tcp_start.linear().transpose());
+  motion.angular_velocity_rad_s = turn.axis() * (turn.angle() / duration_s);
+  double resistance_sum = 0.0;  // sum over substeps of k2 c-hat dt (1/(m/s)): the speed resistance
+  double kinetic_energy_j = 0.0;
+  for (int k = 0; k < substeps; ++k) {
+    motion.pose = Interpolate(tcp_start, tcp_end, (k + 0.5) / substeps);
+    solver.SetKnifeMotion(motion);
+    const mpm::SubstepDiagnostics d = solver.Substep(dt_s);
+    state->wrench.force_n += (d.force_on_blade_n + d.force_on_handle_n) * (dt_s / duration_s);
+    resistance_sum += 1.0 / d.knife_speed_factor - 1.0;
+    report.max_c_hat = std::max(report.max_c_hat, d.c_hat);
+    report.contact = report.contact || d.c_hat > 0.0 || d.force_on_blade_n.squaredNorm() > 0.0;
+    kinetic_energy_j = d.kinetic_energy_j;
+  }
+  report.substeps = substeps;
+  state->substeps += substeps;
+  state->mpm_time_s += duration_s;
+  state->particle_bounds = ParticleBounds(solver.particles());
+  // The factor is 1 / (1 + k2 c-hat u dt) per substep at u = 1 m/s; at the knife's own speed u the
+  // step's slow-down is u / (1 + u sum(k2 c-hat dt)).
+  const double speed_m_s = motion.linear_velocity_m_s.norm();
+  state->knife_speed_factor = 1.0 / (1.0 + speed_m_s * resistance_sum);
+
+  // Sleep again once the knife has gone and the food has come to rest.
+  const double rms_speed_m_s = std::sqrt(2.0 * kinetic_energy_j / TotalMass(solver.particles()));
+  const bool still_near = KnifeNearFood(model, tcp_end, state);
+  state->quiet_time_s = (!still_near && rms_speed_m_s < model.rest_speed_m_s) ? state->quiet_time_s + duration_s : 0.0;
+  if (state->quiet_time_s >= model.rest_duration_s) {
+    state->awake = false;
+    state->quiet_time_s = 0.0;
+  }
+  return report;
+}
+
+}  // namespace culinarycut

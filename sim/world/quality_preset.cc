@@ -1,0 +1,63 @@
+#include "sim/world/quality_preset.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "sim/world/model.h"
+
+namespace culinarycut {
+namespace {
+
+struct NamedPreset {
+  const char* name;
+  MpmResolution resolution;
+};
+
+// Coarser grids afford a larger CFL factor: the solver stays stable up to about 0.4 (physics.md).
+const NamedPreset kPresets[] = {
+    {"draft", {0.008, 4, 0.3}},
+    {"standard", {0.004, 8, 0.2}},
+    {"fine", {0.002, 8, 0.2}},
+};
+
+}  // namespace
+
+std::vector<std::string> QualityPresetNames() {
+  std::vector<std::string> names;
+  for (const NamedPreset& preset : kPresets) names.push_back(preset.name);
+  return names;
+}
+
+MpmResolution ResolveMpmResolution(const std::string& quality, const MpmResolutionConfig& overrides) {
+  const NamedPreset* found = nullptr;
+  for (const NamedPreset& preset : kPresets) {
+    if (quality == preset.name) found = &preset;
+  }
+  if (!found) throw SceneError("scene.quality must be \"draft\", \"standard\" or \"fine\", got \"" + quality + "\"");
+  MpmResolution resolution = found->resolution;
+  std::ostringstream error;
+  if (overrides.dx_m) {
+    if (!(*overrides.dx_m >= 0.001 && *overrides.dx_m <= 0.02)) {
+      error << "scene.mpm.dx must be in [0.001, 0.02] m, got " << *overrides.dx_m;
+      throw SceneError(error.str());
+    }
+    resolution.dx_m = *overrides.dx_m;
+  }
+  if (overrides.particles_per_cell) {
+    if (*overrides.particles_per_cell < 1 || *overrides.particles_per_cell > 64) {
+      error << "scene.mpm.particles_per_cell must be in [1, 64], got " << *overrides.particles_per_cell;
+      throw SceneError(error.str());
+    }
+    resolution.particles_per_cell = *overrides.particles_per_cell;
+  }
+  if (overrides.cfl) {
+    if (!(*overrides.cfl > 0.0 && *overrides.cfl <= 0.5)) {
+      error << "scene.mpm.cfl must be in (0, 0.5], got " << *overrides.cfl;
+      throw SceneError(error.str());
+    }
+    resolution.cfl = *overrides.cfl;
+  }
+  return resolution;
+}
+
+}  // namespace culinarycut

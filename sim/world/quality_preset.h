@@ -1,0 +1,25 @@
+// MPM accuracy presets: grid spacing, particles per cell and CFL factor. Explicit values in the
+// scene override the preset's, one by one.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "sim/world/scene_config.h"
+
+namespace culinarycut {
+
+struct MpmResolution {
+  double dx_m = 0.004;          // grid spacing
+  int particles_per_cell = 8;   // per dx^3 cell
+  double cfl = 0.2;             // dt = cfl dx / wave speed
+};
+
+// draft: fast enough for tests and quick looks; standard: the paper's resolution; fine: studies.
+std::vector<std::string> QualityPresetNames();
+
+// The preset named `quality` with the explicit values of `overrides` applied. Throws SceneError
+// naming the field for an unknown preset or an out-of-range value.
+MpmResolution ResolveMpmResolution(const std::string& quality, const MpmResolutionConfig& overrides);
+
+}  // namespace culinarycut
