@@ -1,11 +1,11 @@
 #include "sim/render/density_grid.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
-
-#include <omp.h>
 
 namespace culinarycut::render {
 namespace {
@@ -116,7 +116,8 @@ void SplatParticles(const ParticleView& particles, const std::uint32_t* indices,
     for (std::size_t s = 0; s < count; ++s) {
       const std::size_t p = indices ? indices[s] : s;
       const std::uint32_t at = fill[slab_of[s]]++;
-      for (int a = 0; a < 3; ++a) scratch->cells[a][at] = (x[a][p] - grid->origin_m[a]) * inverse_cell;
+      for (int a = 0; a < 3; ++a)
+        scratch->cells[a][at] = (x[a][p] - grid->origin_m[a]) * inverse_cell;
     }
   }
 
@@ -131,7 +132,8 @@ void SplatParticles(const ParticleView& particles, const std::uint32_t* indices,
       std::memcpy(&g, scratch->cells[a].data() + s, sizeof(g));
       st[a] = StencilsAt(g, n[a]);
     }
-    // The sort computed the same stencils; keeping them in the slab makes a race impossible.
+    // The sort computed the same bases; should a compiler fuse its float operations differently
+    // and move one by a node, keeping the bases in the slab still makes a race impossible.
     const IntLanes lowest = IntLanes{} + slab * width;
     const IntLanes highest = IntLanes{} + std::min((slab + 1) * width - 1, n[axis] - 4);
     st[axis].base = st[axis].base < lowest ? lowest : st[axis].base;

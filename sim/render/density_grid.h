@@ -39,8 +39,8 @@ DensityGrid DensityGridAround(const std::array<float, 3>& lower_m,
 
 // Memory SplatParticles keeps between calls (overwritten each call).
 struct SplatScratch {
-  std::vector<std::uint8_t> slab_of_base;  // per node along the slab axis: its slab
-  std::vector<std::uint8_t> slab_of;       // per listed particle: its slab
+  std::vector<std::uint8_t> slab_of_base;   // per node along the slab axis: its slab
+  std::vector<std::uint8_t> slab_of;        // per listed particle: its slab
   std::array<std::vector<float>, 3> cells;  // positions in cells from the origin, sorted by slab
 };
 

@@ -38,7 +38,7 @@ struct FoodPieceSurface {
   std::uint16_t object = 0;  // food object index
   std::int32_t piece = 0;    // piece label, as in ParticleView::piece (negative -> 0)
   std::size_t particle_count = 0;
-  // Empty when the piece's particles are too few to fill a cell (a crumb of one or two particles).
+  // May be empty for a crumb of a few particles (always for one: it cannot fill a cell).
   // flesh per vertex: the share of the density there that comes from damaged particles
   // (damage > flesh_damage), in [0, 1]; 0 on the original skin, about 1 on a cut face.
   TriangleMesh mesh;
