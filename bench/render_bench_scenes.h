@@ -15,27 +15,11 @@
 
 namespace culinarycut::render::bench {
 
-struct FoodParticles {
-  std::vector<float> x, y, z, damage;
-  std::vector<std::int32_t> piece;
-  std::vector<std::uint16_t> object;
-  float spacing_m = 0.0f;
+struct FoodParticles : ParticleArrays {
   Eigen::Vector3d center_m = Eigen::Vector3d::Zero();
   double top_z_m = 0.0;
   Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  // the cucumber's long axis (world)
 
-  ParticleView View() const {
-    ParticleView view;
-    view.count = x.size();
-    view.x_m = x.data();
-    view.y_m = y.data();
-    view.z_m = z.data();
-    view.damage = damage.data();
-    view.piece = piece.data();
-    view.object = object.data();
-    view.particle_spacing_m = spacing_m;
-    return view;
-  }
 };
 
 // About `target_count` particles of a cucumber lying across the board centre, along world x.

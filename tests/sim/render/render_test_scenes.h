@@ -17,25 +17,10 @@ inline Renderer& SharedRenderer() {
   return *renderer;
 }
 
-// Structure-of-arrays storage behind a ParticleView.
-struct ParticleBlock {
-  std::vector<float> x, y, z, damage;
-  std::vector<std::int32_t> piece;
-  std::vector<std::uint16_t> object;
-  float spacing_m = 0.0025f;
+// A food stand-in: particles 2.5 mm apart.
+struct ParticleBlock : ParticleArrays {
+  ParticleBlock() { spacing_m = 0.0025f; }
 
-  ParticleView View() const {
-    ParticleView view;
-    view.count = x.size();
-    view.x_m = x.data();
-    view.y_m = y.data();
-    view.z_m = z.data();
-    view.damage = damage.data();
-    view.piece = piece.data();
-    view.object = object.data();
-    view.particle_spacing_m = spacing_m;
-    return view;
-  }
 };
 
 // A box of particles centred at `center_m`; with `gap_m` > 0 the slab |x - cx| < gap/2 is removed

@@ -25,11 +25,9 @@ using testing::MeshBounds;
 constexpr double kPi = 3.14159265358979323846;
 constexpr float kSpacingM = 0.002f;  // particle spacing of every test food
 
-// Particles in the solver's structure-of-arrays layout, and a view of them.
-struct Cloud {
-  std::vector<float> x, y, z, damage;
-  std::vector<std::int32_t> piece;
-  std::vector<std::uint16_t> object;
+// Particles in the solver's structure-of-arrays layout, kSpacingM apart.
+struct Cloud : ParticleArrays {
+  Cloud() { spacing_m = kSpacingM; }
 
   void Add(const std::array<float, 3>& p, std::int32_t piece_label = 0,
            std::uint16_t object_index = 0, float damage_value = 0.0f) {
@@ -39,18 +37,6 @@ struct Cloud {
     piece.push_back(piece_label);
     object.push_back(object_index);
     damage.push_back(damage_value);
-  }
-  ParticleView View() const {
-    ParticleView view;
-    view.count = x.size();
-    view.x_m = x.data();
-    view.y_m = y.data();
-    view.z_m = z.data();
-    view.damage = damage.data();
-    view.piece = piece.data();
-    view.object = object.data();
-    view.particle_spacing_m = kSpacingM;
-    return view;
   }
   // The solver reorders particles: so may the tests.
   void Shuffle(std::uint32_t seed) {
