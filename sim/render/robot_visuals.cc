@@ -8,18 +8,10 @@
 #include "sim/render/mesh_file.h"
 #include "sim/render/primitive_meshes.h"
 #include "sim/render/render_error.h"
+#include "sim/robot/urdf_pose.h"
 
 namespace culinarycut::render {
 namespace {
-
-Eigen::Isometry3d ToIsometry(const urdf::Pose& pose) {
-  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
-  out.translation() << pose.position.x, pose.position.y, pose.position.z;
-  out.linear() = Eigen::Quaterniond(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z)
-                     .normalized()
-                     .toRotationMatrix();
-  return out;
-}
 
 bool IsMovable(const urdf::Joint& joint) {
   return joint.type == urdf::Joint::REVOLUTE || joint.type == urdf::Joint::CONTINUOUS ||
@@ -104,7 +96,7 @@ RobotVisuals LoadRobotVisuals(const std::string& urdf_path) {
           RobotVisualPart part;
           part.link_name = link.name;
           part.owner = owner;
-          part.in_owner = link_in_owner * ToIsometry(visual->origin);
+          part.in_owner = link_in_owner * IsometryFromUrdf(visual->origin);
           part.mesh = VisualMesh(*visual->geometry, urdf_path, link.name);
           part.material = DefaultMaterial(link.name, is_knife, visual->geometry->type);
           if (visual->material && visual->material->color.r + visual->material->color.g + visual->material->color.b > 0) {
@@ -117,7 +109,7 @@ RobotVisuals LoadRobotVisuals(const std::string& urdf_path) {
         for (const auto& joint : link.child_joints) {
           const urdf::LinkConstSharedPtr child = model->getLink(joint->child_link_name);
           if (!child) continue;
-          const Eigen::Isometry3d joint_origin = ToIsometry(joint->parent_to_joint_origin_transform);
+          const Eigen::Isometry3d joint_origin = IsometryFromUrdf(joint->parent_to_joint_origin_transform);
           if (IsMovable(*joint)) {
             visuals.owner_names.push_back(child->name);
             visit(*child, static_cast<int>(visuals.owner_names.size()) - 1, Eigen::Isometry3d::Identity());

@@ -4,17 +4,10 @@
 
 #include <urdf_parser/urdf_parser.h>
 
+#include "sim/robot/urdf_pose.h"
+
 namespace culinarycut {
 namespace {
-
-Eigen::Isometry3d ToIsometry(const urdf::Pose& pose) {
-  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
-  out.translation() << pose.position.x, pose.position.y, pose.position.z;
-  out.linear() = Eigen::Quaterniond(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z)
-                     .normalized()
-                     .toRotationMatrix();
-  return out;
-}
 
 std::vector<CollisionShape> ReadShapes(const urdf::Link& link, const Eigen::Isometry3d& link_to_owner,
                                        const std::string& path) {
@@ -22,7 +15,7 @@ std::vector<CollisionShape> ReadShapes(const urdf::Link& link, const Eigen::Isom
   for (const auto& collision : link.collision_array) {
     if (!collision || !collision->geometry) continue;
     CollisionShape shape;
-    shape.origin = link_to_owner * ToIsometry(collision->origin);
+    shape.origin = link_to_owner * IsometryFromUrdf(collision->origin);
     switch (collision->geometry->type) {
       case urdf::Geometry::BOX: {
         const auto& box = static_cast<const urdf::Box&>(*collision->geometry);
@@ -59,7 +52,7 @@ void MergeInto(RigidLink* owner, const urdf::Link& link, const Eigen::Isometry3d
   owner->shapes.insert(owner->shapes.end(), shapes.begin(), shapes.end());
   if (!link.inertial || link.inertial->mass <= 0.0) return;
   const double m = link.inertial->mass;
-  const Eigen::Vector3d com = link_to_owner * ToIsometry(link.inertial->origin).translation();
+  const Eigen::Vector3d com = link_to_owner * IsometryFromUrdf(link.inertial->origin).translation();
   const Eigen::Vector3d own_inertia(link.inertial->ixx, link.inertial->iyy, link.inertial->izz);
   const double total = owner->mass_kg + m;
   const Eigen::Vector3d new_com = (owner->mass_kg * owner->center_of_mass_m + m * com) / total;
@@ -106,7 +99,7 @@ RobotDescription LoadRobotDescription(const std::string& urdf_path, const std::s
   for (size_t i = 1; i < path.size(); ++i) {
     const urdf::Link& link = *path[i];
     const urdf::Joint& joint = *link.parent_joint;
-    const Eigen::Isometry3d origin = ToIsometry(joint.parent_to_joint_origin_transform);
+    const Eigen::Isometry3d origin = IsometryFromUrdf(joint.parent_to_joint_origin_transform);
     if (joint.type == urdf::Joint::FIXED) {
       link_to_owner = link_to_owner * origin;
       MergeInto(owner, link, link_to_owner, urdf_path);
