@@ -15,6 +15,10 @@ struct StageTimers {
   std::array<std::uint64_t, static_cast<int>(Stage::kCount)> calls{};
 };
 
+inline double MillisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
 // Adds the lifetime of this object to one stage of a StageTimers, and reports it in `elapsed_ms`.
 class ScopedStageTimer {
  public:

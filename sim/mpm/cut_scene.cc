@@ -5,15 +5,11 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "sim/core/stage_timer.h"
 #include "sim/mpm/food_shapes.h"
 
 namespace culinarycut::mpm {
 namespace {
-
-double MillisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
-}
 
 // The knife TCP frame for a blade across `axis` (horizontal, unit): blade normal (TCP y) along the
 // axis, edge down (TCP z = -world z), TCP x = y cross z along the blade. Yaw 0 gives BladeAcrossX.

@@ -8,10 +8,6 @@
 namespace culinarycut {
 namespace {
 
-double MillisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
 Eigen::Isometry3d TcpInWorld(const Model& model, const Eigen::VectorXd& q_rad) {
   return model.robot_base_in_world * TipPose(model.robot, q_rad, model.tcp_in_last_link);
 }
@@ -41,6 +37,8 @@ StepReport Step(const Model& model, State* state, const Action& action) {
   // The PD loop runs at the physics rate: a fresh velocity command every substep, on top of
   // gravity compensation (as the Panda's own controller does), so the servo only handles motion.
   const Eigen::Vector3d gravity_in_base = model.robot_base_in_world.linear().transpose() * model.layout.gravity_m_s2;
+  // The knife's pose at the start of each physics step is the pose at the end of the one before.
+  Eigen::Isometry3d tcp_start = food ? TcpInWorld(model, state->physics->JointPositions()) : Eigen::Isometry3d::Identity();
   for (int i = 0; i < model.substeps_per_control_step; ++i) {
     const Eigen::VectorXd q = state->physics->JointPositions();
     {
@@ -61,9 +59,9 @@ StepReport Step(const Model& model, State* state, const Action& action) {
     }
     if (food) {
       const auto mpm_start = std::chrono::steady_clock::now();
-      const FoodStepReport food_report = AdvanceFood(*model.food, TcpInWorld(model, q),
-                                                     TcpInWorld(model, state->physics->JointPositions()),
-                                                     model.physics_timestep_s, food);
+      const Eigen::Isometry3d tcp_end = TcpInWorld(model, state->physics->JointPositions());
+      const FoodStepReport food_report = AdvanceFood(*model.food, tcp_start, tcp_end, model.physics_timestep_s, food);
+      tcp_start = tcp_end;
       report.mpm_substeps += food_report.substeps;
       report.knife_contact = report.knife_contact || food_report.contact;
       wrench_sum.force_n += food->wrench.force_n;
