@@ -12,6 +12,7 @@ import json
 import platform
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -20,8 +21,13 @@ TARGET_PARTICLE_STEPS_PER_S = 10e6  # the issue's target: 100k particles, 2 thre
 # Work of one particle-step, counted from sim/mpm/solver.cc (float32; see the report for the
 # breakdown): memory traffic of the particle arrays (the grid stays in cache) and arithmetic.
 REPETITIONS = 5  # this VM's speed drifts: report medians, and the spread
-BYTES_PER_PARTICLE_STEP = 377
-FLOPS_PER_PARTICLE_STEP = 1450
+IDLE_PERCENT = 95  # each benchmark starts once the machine was this idle for 2 s (or after a wait)
+MAX_IDLE_WAIT_S = 120
+# One run per configuration, each behind its own idle gate: short runs find quiet windows.
+CONFIGURATIONS = [f"BM_CuttingSubstep/particles:{n}/threads:{t}/" for t in (1, 2)
+                  for n in (10_000, 100_000, 1_000_000)] + ["BM_MemoryTriad", "BM_FmaThroughput"]
+BYTES_PER_PARTICLE_STEP = 480
+FLOPS_PER_PARTICLE_STEP = 1400
 
 
 def cpu_model() -> str:
@@ -31,10 +37,29 @@ def cpu_model() -> str:
     return platform.processor() or "unknown"
 
 
-def run(binary: Path) -> dict:
-    print(f"running {binary} (about a minute)...", flush=True)
+def idle_percent(seconds: float = 2.0) -> float:
+    """The share of CPU time the whole machine spent idle over the next `seconds`."""
+    def sample() -> tuple[int, int]:
+        fields = [int(v) for v in Path("/proc/stat").read_text().split("\n", 1)[0].split()[1:]]
+        return fields[3], sum(fields)
+    idle0, total0 = sample()
+    time.sleep(seconds)
+    idle1, total1 = sample()
+    return 100.0 * (idle1 - idle0) / max(1, total1 - total0)
+
+
+def wait_for_idle(max_wait_s: float) -> float:
+    """Waits until other jobs leave the machine idle (this VM is shared); returns the idle share."""
+    deadline = time.monotonic() + max_wait_s
+    while True:
+        idle = idle_percent()
+        if idle >= IDLE_PERCENT or time.monotonic() > deadline:
+            return idle
+
+
+def run(binary: Path, benchmark_filter: str) -> dict:
     out = subprocess.run([str(binary), "--benchmark_format=json", f"--benchmark_repetitions={REPETITIONS}",
-                          "--benchmark_report_aggregates_only=true"],
+                          "--benchmark_report_aggregates_only=true", f"--benchmark_filter={benchmark_filter}"],
                          check=True, capture_output=True, text=True)
     return json.loads(out.stdout)
 
@@ -46,9 +71,16 @@ def main() -> int:
     if not args.binary.is_file():
         print(f"error: {args.binary} not found; build first (scripts/build.sh)", file=sys.stderr)
         return 2
-    data = run(args.binary)
+    benchmarks, idle_before, data = [], {}, None
+    for configuration in CONFIGURATIONS:
+        idle = wait_for_idle(MAX_IDLE_WAIT_S)
+        print(f"running {configuration} (machine {idle:.0f} % idle)...", flush=True)
+        data = run(args.binary, configuration)
+        benchmarks += data["benchmarks"]
+        for bench in data["benchmarks"]:
+            idle_before[bench["run_name"]] = idle
     rows, spread, triad, fma = [], {}, None, None
-    for bench in data["benchmarks"]:
+    for bench in benchmarks:
         aggregate = bench.get("aggregate_name", "")
         if bench["name"].startswith("BM_CuttingSubstep") and aggregate == "cv":
             spread[bench["run_name"]] = bench["particle_steps_per_s"]
@@ -77,18 +109,22 @@ def main() -> int:
         "",
         f"Each row is the median of {REPETITIONS} repetitions of at least 1 s each; the last column is the",
         "run-to-run spread (coefficient of variation). This virtual machine's speed also drifts over",
-        "hours: in the session that wrote this, solver code of the same speed measured 10.6 to 11.6 M",
-        "particle-steps/s at 100k particles on 2 threads in a quiet period and 7.1 M an hour later, with",
-        "the machine otherwise idle both times.",
+        "hours, and other jobs on it slow the 2-thread runs most: each OpenMP barrier then waits for a",
+        "thread the kernel has descheduled (with two busy neighbours, 100k particles on 2 threads fell",
+        "below 1 M particle-steps/s for old and new code alike). Compare builds side by side, in one",
+        f"run, never against numbers from another hour. Each configuration therefore runs on its own, once the",
+        f"machine was at least {IDLE_PERCENT} % idle for 2 s (waiting up to {MAX_IDLE_WAIT_S} s); the last column",
+        "says how idle it was just before; other jobs may still have started during the run.",
         "",
-        "| particles | threads | ms / substep | particle-steps / s | setup ms | P2G ms | grid ms | G2P ms | spread |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "| particles | threads | ms / substep | particle-steps / s | setup ms | P2G ms | grid ms | G2P ms | spread | idle before |",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for row in rows:
         lines.append(f"| {int(row['particles']):,} | {int(row['threads'])} | {row['real_time']:.2f} | "
                      f"{row['particle_steps_per_s'] / 1e6:.2f} M | {row['setup_ms']:.2f} | {row['p2g_ms']:.2f} | "
                      f"{row['grid_ms']:.2f} | {row['g2p_ms']:.2f} | "
-                     f"{100 * spread.get(row['run_name'], float('nan')):.0f} % |")
+                     f"{100 * spread.get(row['run_name'], float('nan')):.0f} % | "
+                     f"{idle_before.get(row['run_name'], float('nan')):.0f} % |")
     target_row = next((r for r in rows if int(r["threads"]) == 2 and 90_000 < r["particles"] < 110_000), None)
     achieved = target_row["particle_steps_per_s"] if target_row else float("nan")
     met = "met" if achieved >= TARGET_PARTICLE_STEPS_PER_S else "NOT met"
@@ -99,25 +135,27 @@ def main() -> int:
         "",
         "## Roofline estimate",
         f"- Memory: a STREAM-like triad on 2 threads moves {triad / 1e9:.1f} GB/s. One particle-step streams about "
-        f"{BYTES_PER_PARTICLE_STEP} bytes of particle state (read F, C, x, v, m, V, D; write F, C, x, v and the "
-        "per-particle affine matrix; the grid box stays in cache), so memory caps the kernel at "
+        f"{BYTES_PER_PARTICLE_STEP} bytes of particle state (setup reads x three times; the stress reads F, C, x, "
+        "v, m, V, D and writes each particle's node momentum, 64 bytes, which the scatter reads back; G2P reads "
+        "x, v, F and writes F, C, x, v; the grid box stays in cache), so memory caps the kernel at "
         f"{memory_limit / 1e6:.0f} M particle-steps/s.",
         f"- Compute: {fma / 1e9:.0f} GFLOP/s of float32 FMA on 2 threads as this build vectorises (SSE2). One "
         f"particle-step is about {FLOPS_PER_PARTICLE_STEP} flops (polar decomposition about 500, stress 100, "
-        "P2G about 300, G2P about 550), so compute caps it at "
+        "P2G about 300, G2P about 500), so compute caps it at "
         f"{compute_limit / 1e6:.0f} M particle-steps/s.",
         f"- The kernel's roofline on this machine is therefore about {roofline / 1e6:.0f} M particle-steps/s; the "
         f"100k / 2-thread run reaches {100 * achieved / roofline:.0f} % of it. The stress (polar decomposition "
-        "included) runs 8 particles per SIMD instruction; the 27-node scatter and gather handle one node "
-        "(a 4-vector of momentum and mass) per instruction and wait on memory latency, so batching them "
-        "across particles is what would come next.",
+        "included), the stencils, the F update and the node momentum run 8 particles per SIMD instruction; "
+        "the 27-node scatter and gather handle one node (a 4-vector of momentum and mass) per instruction, "
+        "so they, and the SSE2-only build (no FMA, 4 lanes), are what keeps the kernel from the roofline.",
         "",
     ]
     out_md = ROOT / "docs" / "benchmarks" / "mpm_throughput.md"
     out_md.write_text("\n".join(lines))
     (ROOT / "docs" / "benchmarks" / "mpm_throughput.json").write_text(json.dumps(
         {"context": data["context"], "cpu_model": cpu_model(), "rows": rows, "triad_bytes_per_s": triad,
-         "fma_flops_per_s": fma, "memory_limit": memory_limit, "compute_limit": compute_limit}, indent=2))
+         "fma_flops_per_s": fma, "memory_limit": memory_limit, "compute_limit": compute_limit,
+         "idle_percent_before": idle_before}, indent=2))
     print("\n".join(lines))
     print(f"wrote {out_md.relative_to(ROOT)}")
     return 0

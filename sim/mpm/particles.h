@@ -55,34 +55,4 @@ struct Particles {
   }
 };
 
-// values[s] <- values[order[s]].
-template <typename T>
-void Permute(const std::vector<std::uint32_t>& order, std::vector<T>* values) {
-  std::vector<T> permuted(values->size());
-  for (std::size_t s = 0; s < order.size(); ++s) permuted[s] = (*values)[order[s]];
-  values->swap(permuted);
-}
-
-// Stores the particles in a new order: particle s becomes the old particle order[s]. Keeps
-// neighbours together in memory (the solver calls it with particles sorted by grid block).
-template <typename Real>
-void ReorderParticles(const std::vector<std::uint32_t>& order, Particles<Real>* p) {
-  for (int axis = 0; axis < 3; ++axis) {
-    Permute(order, &p->position[axis]);
-    Permute(order, &p->velocity[axis]);
-  }
-  for (int k = 0; k < 9; ++k) {
-    Permute(order, &p->F[k]);
-    Permute(order, &p->C[k]);
-  }
-  Permute(order, &p->mass);
-  Permute(order, &p->volume);
-  Permute(order, &p->plastic_strain);
-  Permute(order, &p->damage);
-  Permute(order, &p->piece);
-  Permute(order, &p->blade_side);
-  Permute(order, &p->material);
-  Permute(order, &p->object);
-}
-
 }  // namespace culinarycut::mpm

@@ -17,6 +17,10 @@
 
 namespace culinarycut::mpm {
 
+struct SubstepContext;  // solver_internals.h
+struct ContactState;
+struct ParticleTotals;  // substep_totals.h
+
 // What one substep did and measured. Forces are those the food exerts on each collider (N,
 // world frame), from the grid impulse F = -sum m (v_after - v_before) / dt.
 struct SubstepDiagnostics {
@@ -85,8 +89,21 @@ class Solver {
   void RestoreSubstepsTaken(std::uint64_t count);
 
  private:
-  struct Grid;        // the bounded grid box (solver.cc)
-  struct Workspace;   // per-substep scratch arrays, reused (solver.cc)
+  struct Grid;        // the bounded grid box (solver_internals.h)
+  struct Workspace;   // per-substep scratch arrays, reused (solver_internals.h)
+
+  // The stages of Substep, in order; each file solver_<stage>.cc holds one.
+  SubstepContext MakeContext(double dt_s) const;              // solver.cc
+  void FitGridBox();                                          // solver_grid_box.cc
+  void SplitNodesNearBlade(const SubstepContext& context);    // solver_blade_sides.cc
+  void LabelBladeSides(const SubstepContext& context);        // solver_blade_sides.cc
+  void SortParticlesIntoBlocks(const SubstepContext& context);  // solver_grid_box.cc
+  Eigen::Vector3d TotalMomentum() const;                      // solver.cc, N s
+  double ComputeAffineMomentum(const SubstepContext& context);  // solver_stress.cc; returns J
+  void ScatterToGrid(const SubstepContext& context);          // solver_p2g.cc
+  ContactState UpdateGrid(const SubstepContext& context);     // solver_grid_update.cc
+  ParticleTotals GridToParticles(const SubstepContext& context,
+                                 const ContactState& contact);  // solver_g2p.cc
 
   SolverConfig config_;
   std::vector<Material> materials_;

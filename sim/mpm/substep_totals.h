@@ -12,7 +12,9 @@
 
 namespace culinarycut::mpm {
 
-inline constexpr std::size_t kChunk = 4096;  // reductions sum fixed chunks in a fixed order
+// Reductions sum fixed chunks in a fixed order; small enough that dynamically scheduled chunks
+// balance the threads' load.
+inline constexpr std::size_t kChunk = 2048;
 
 // Sums of one grid-update chunk, reduced in chunk order so that totals do not depend on threads.
 struct GridTotals {
@@ -68,6 +70,6 @@ Totals SumChunks(const std::vector<Totals>& chunks) {
   return total;
 }
 
-std::size_t ChunkCount(std::size_t n) { return (n + kChunk - 1) / kChunk; }
+inline std::size_t ChunkCount(std::size_t n) { return (n + kChunk - 1) / kChunk; }
 
 }  // namespace culinarycut::mpm

@@ -1,0 +1,163 @@
+// Grid update: momentum to velocity, gravity, damping, then each collider within its bounding box
+// (board, table, blade, the blade faces for split layers, handle), with every velocity change a
+// collider makes summed as its impulse; and the contact strength c-hat the cut depends on.
+#include <algorithm>
+#include <cmath>
+
+#include "sim/mpm/grid_contact.h"
+#include "sim/mpm/solver_internals.h"
+
+namespace culinarycut::mpm {
+namespace {
+
+constexpr double kContactStrengthScale = 0.35;  // c_norm = 0.35 dx / dt (paper)
+// Grid nodes feel the blade within half a cell of its surface: a thin, sharp edge between two
+// node layers would otherwise never touch them, and the edge could not press on the food.
+constexpr double kBladeContactOffsetCells = 0.5;
+
+}  // namespace
+
+template <typename Real>
+ContactState Solver<Real>::UpdateGrid(const SubstepContext& context) {
+  Grid& grid = *grid_;
+  Workspace& work = *workspace_;
+  const Effects& effects = config_.effects;
+  const CuttingParameters& cutting = config_.cutting;
+  const double dt_s = context.dt_s;
+  const double dx = context.dx_m;
+  const bool knife_on = context.knife_on;
+  const bool split_on = context.split_on;
+  const double blade_half_m = context.blade_half_m;
+  const std::size_t nodes = grid.size();
+  const double friction = materials_.front().friction_coefficient;
+  const bool use_friction = effects.friction;
+  const Eigen::AlignedBox3d blade_box =
+      knife_on ? knife_->BladeBounds(dx) : Eigen::AlignedBox3d();
+  const Eigen::AlignedBox3d handle_box =
+      knife_on ? knife_->HandleBounds(dx) : Eigen::AlignedBox3d();
+  const Eigen::AlignedBox3d board_box = board_ ? board_->Bounds(dx) : Eigen::AlignedBox3d();
+  const double damping = 1.0 / (1.0 + config_.grid_damping_per_s * dt_s);
+  const Eigen::Vector3d blade_normal =
+      knife_on ? Eigen::Vector3d(knife_->motion().pose.linear().col(1)) : Eigen::Vector3d::UnitY();
+
+  const bool sense_force = effects.force_sensing;  // off: no impulse bookkeeping at all
+  // Updates one node's velocity in place from its mass and momentum; `side` >= 0 for a layer of a
+  // split node, whose blade is a wall at the blade face on that side.
+  auto update_node = [&](const Eigen::Vector3d& x, GridNode<Real>* grid_node, int side,
+                         GridTotals* totals) {
+    const Real node_mass = (*grid_node)[3];
+    if (node_mass <= Real(0)) return;
+    const double m = node_mass;
+    Eigen::Vector3d v = (grid_node->template head<3>() / node_mass).template cast<double>();
+    // Gravity and damping; their impulses are counted for the momentum check.
+    const Eigen::Vector3d v_undamped = v + dt_s * config_.gravity_m_s2;
+    v = v_undamped * damping;
+    if (sense_force) {
+      totals->other_impulse += m * dt_s * config_.gravity_m_s2 + m * (v - v_undamped);
+      totals->mass += m;
+    }
+    double approach = 0.0;
+    if (board_ && board_box.contains(x)) {
+      const SdfSample sample = board_->Sample(x);
+      if (sample.distance_m < 0.0) {
+        const Eigen::Vector3d before = v;
+        if (ResolveContact(sample.normal, board_->motion().VelocityAt(x), friction, use_friction,
+                           &v, &approach)) {
+          if (sense_force) totals->board_impulse += m * (v - before);
+        }
+      }
+    }
+    if (table_ && x.z() <= table_->height_m()) {
+      const Eigen::Vector3d before = v;
+      if (ResolveContact(Eigen::Vector3d::UnitZ(), Eigen::Vector3d::Zero(), friction, use_friction,
+                         &v, &approach)) {
+        if (sense_force) totals->table_impulse += m * (v - before);
+      }
+    }
+    if (knife_on) {
+      if (side >= 0) {
+        // The blade face on this side: material of this side may not move through it.
+        const double sign = side == 1 ? 1.0 : -1.0;
+        if (sign * knife_->SideOfBlade(x) < blade_half_m + kBladeContactOffsetCells * dx) {
+          const Eigen::Vector3d before = v;
+          if (ResolveContact(sign * blade_normal, knife_->motion().VelocityAt(x), friction,
+                             use_friction, &v, &approach)) {
+            if (sense_force) totals->blade_impulse += m * (v - before);
+          }
+        }
+      } else if (blade_box.contains(x)) {
+        const SdfSample sample = knife_->Blade(x);
+        if (sample.distance_m < kBladeContactOffsetCells * dx) {
+          const Eigen::Vector3d before = v;
+          if (ResolveContact(sample.normal, knife_->motion().VelocityAt(x), friction, use_friction,
+                             &v, &approach)) {
+            if (sense_force) totals->blade_impulse += m * (v - before);
+            totals->approach_speed_sum += approach;
+          }
+        }
+      }
+      if (handle_box.contains(x)) {
+        const SdfSample sample = knife_->Handle(x);
+        if (sample.distance_m < 0.0) {
+          const Eigen::Vector3d before = v;
+          if (ResolveContact(sample.normal, knife_->motion().VelocityAt(x), friction, use_friction,
+                             &v, &approach)) {
+            if (sense_force) totals->handle_impulse += m * (v - before);
+          }
+        }
+      }
+    }
+    const double speed = v.norm();
+    if (speed > config_.max_grid_speed_m_s) {
+      const Eigen::Vector3d uncapped = v;
+      v *= config_.max_grid_speed_m_s / speed;
+      ++totals->speed_caps;
+      if (sense_force) totals->other_impulse += m * (v - uncapped);
+    }
+    grid_node->template head<3>() = v.cast<Real>();  // now the velocity
+  };
+
+  const std::size_t node_chunks = ChunkCount(nodes);
+  work.grid_chunks.assign(node_chunks, GridTotals{});
+  const std::size_t stride_i = grid.stride_i();
+  const std::size_t stride_j = grid.stride_j();
+#pragma omp parallel for num_threads(config_.threads) schedule(dynamic, 1)
+  for (std::int64_t c = 0; c < static_cast<std::int64_t>(node_chunks); ++c) {
+    GridTotals& totals = work.grid_chunks[c];
+    const std::size_t end = std::min(nodes, (c + 1) * kChunk);
+    for (std::size_t node = c * kChunk; node < end; ++node) {
+      const std::int32_t slot = split_on ? grid.split_slot[node] : -1;
+      // Empty nodes (most of the box's margin) need no position and no collider query.
+      if (grid.node[node][3] <= Real(0) && slot < 0) continue;
+      const int i = static_cast<int>(node / stride_i);
+      const int j = static_cast<int>((node % stride_i) / stride_j);
+      const int k = static_cast<int>(node % stride_j);
+      const Eigen::Vector3d x = grid.Position(i, j, k, dx);
+      update_node(x, &grid.node[node], -1, &totals);
+      if (slot >= 0) {
+        for (int side = 0; side < 2; ++side) {
+          update_node(x, &grid.layer[side][slot], side, &totals);
+        }
+      }
+    }
+  }
+  ContactState contact;
+  contact.totals = SumChunks(work.grid_chunks);
+  const double c_norm = kContactStrengthScale * dx / dt_s;
+  // The number of nodes along the edge grows as 1 / dx: scale the sum back to the reference grid.
+  const double approach_sum_m_s =
+      contact.totals.approach_speed_sum * (dx / cutting.band_reference_dx_m);
+  contact.c_hat = knife_on ? std::min(1.0, approach_sum_m_s / c_norm) : 0.0;
+  // Damage needs the edge moving edge-first into the food (a downward stroke).
+  const bool downward_stroke =
+      knife_on && knife_->motion().linear_velocity_m_s.dot(knife_->motion().pose.linear().col(2)) > 0.0;
+  contact.damage_gate =
+      knife_on && effects.damage && contact.c_hat >= cutting.c_hat_min && downward_stroke;
+  contact.tip_on = knife_on && cutting.tip_acceleration_m_s2 > 0.0;
+  return contact;
+}
+
+template ContactState Solver<float>::UpdateGrid(const SubstepContext&);
+template ContactState Solver<double>::UpdateGrid(const SubstepContext&);
+
+}  // namespace culinarycut::mpm

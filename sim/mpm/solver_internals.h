@@ -1,0 +1,85 @@
+// What the stages of one substep share (solver.cc orchestrates them; solver_*.cc hold them): the
+// bounded grid box, the reused scratch arrays and the numbers derived once per substep.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "sim/mpm/node_momentum.h"
+#include "sim/mpm/particle_blocks.h"
+#include "sim/mpm/solver.h"
+#include "sim/mpm/substep_totals.h"
+
+namespace culinarycut::mpm {
+
+// One grid node: (momentum x, y, z, mass) after P2G, (velocity, mass) after the grid update. One
+// 4-vector: a transfer adds to it with one SIMD operation and touches one cache line.
+template <typename Real>
+using GridNode = Vector4<Real>;
+
+// The bounded grid box: nodes (origin + (i, j, k)) * dx for i < dims.x() etc. Near the blade,
+// "split" nodes keep one layer per blade side (CPIC-style) so the sides never share momentum.
+template <typename Real>
+struct Solver<Real>::Grid {
+  Eigen::Vector3i origin = Eigen::Vector3i::Zero();  // global index of node (0, 0, 0)
+  Eigen::Vector3i dims = Eigen::Vector3i::Zero();
+  std::vector<GridNode<Real>> node;
+  std::vector<std::int32_t> split_slot;              // -1, or this node's slot in the layers
+  std::vector<std::size_t> split_nodes;              // node index of each slot
+  std::array<std::vector<GridNode<Real>>, 2> layer;  // [side: 0 negative, 1 positive][slot]
+
+  std::size_t size() const {
+    return static_cast<std::size_t>(dims.x()) * dims.y() * dims.z();
+  }
+  std::size_t Index(int i, int j, int k) const {
+    return (static_cast<std::size_t>(i) * dims.y() + j) * dims.z() + k;
+  }
+  std::size_t stride_i() const { return static_cast<std::size_t>(dims.y()) * dims.z(); }
+  std::size_t stride_j() const { return static_cast<std::size_t>(dims.z()); }
+  Eigen::Vector3d Position(int i, int j, int k, double dx_m) const {
+    return Eigen::Vector3d((origin.x() + i) * dx_m, (origin.y() + j) * dx_m, (origin.z() + k) * dx_m);
+  }
+};
+
+// Scratch arrays reused from substep to substep (no allocation, no page faults in the hot path).
+template <typename Real>
+struct Solver<Real>::Workspace {
+  ParticleBlocks blocks;
+  Particles<Real> reorder_spare;             // memory the block-order reorder permutes into
+  std::vector<NodeMomentum<Real>> node_momentum;  // P2G: what each particle adds to its nodes
+  std::vector<double> elastic_energy_of_chunk;
+  std::vector<GridTotals> grid_chunks;
+  std::vector<ParticleTotals> particle_chunks;
+  std::uint64_t substeps_since_reorder = 0;
+};
+
+// The numbers one substep derives from the config, the time step and the knife, once.
+struct SubstepContext {
+  double dt_s = 0.0;
+  double dx_m = 0.0;
+  bool knife_on = false;
+  bool split_on = false;            // the two-sided blade is simulated this substep
+  double band_m = 0.0;              // damage band around the edge, rescaled with dx (paper)
+  double v_threshold_m_s = 0.0;     // approach speed above which damage grows (paper)
+  double blade_half_m = 0.0;        // half the blade's effective thickness
+  // Nodes this close to the blade's mid-plane, at or above the edge, are split by side.
+  double split_half_width_m = 0.0;
+  double half_length_m = 0.0;       // half the blade's length
+  double blade_height_m = 0.0;      // spine to edge
+  // A particle's stencil reaches 1.5 cells along each grid axis: 1.5 sqrt(3) dx in any frame.
+  double stencil_reach_m = 0.0;
+};
+
+// What the grid update hands to G2P: the contact strength and the damage and tip-force gates.
+struct ContactState {
+  GridTotals totals;
+  double c_hat = 0.0;
+  bool damage_gate = false;
+  bool tip_on = false;
+};
+
+}  // namespace culinarycut::mpm
