@@ -48,7 +48,10 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   }
   sessions_ = std::make_unique<SessionManager>(options.max_sessions,
                                                std::chrono::duration<double>(options.idle_timeout_s));
-  service_ = std::make_unique<SimulatorService>(std::move(robot), sessions_.get(), telemetry_.get());
+  render::RendererOptions render_options;
+  render_options.robot_urdf_path = urdf;
+  renderer_ = std::make_unique<SharedRenderer>(render_options);
+  service_ = std::make_unique<SimulatorService>(std::move(robot), sessions_.get(), telemetry_.get(), renderer_.get());
   task_service_ = std::make_unique<TaskService>(sessions_.get());
 
   grpc::EnableDefaultHealthCheckService(true);

@@ -9,6 +9,7 @@
 
 #include "server/server_options.h"
 #include "server/session_manager.h"
+#include "server/shared_renderer.h"
 #include "server/simulator_service.h"
 #include "server/task_service.h"
 #include "server/telemetry_publisher.h"
@@ -33,6 +34,7 @@ class SimulationServer {
 
  private:
   std::unique_ptr<TelemetryPublisher> telemetry_;
+  std::unique_ptr<SharedRenderer> renderer_;
   std::unique_ptr<SessionManager> sessions_;
   std::unique_ptr<SimulatorService> service_;
   std::unique_ptr<TaskService> task_service_;

@@ -2,17 +2,42 @@
 
 #include <spdlog/spdlog.h>
 
+#include "server/camera_wire_conversion.h"
 #include "server/service_status.h"
 #include "server/version.h"
 #include "server/wire_conversion.h"
+#include "sim/core/stage_timer.h"
+#include "sim/world/camera_observation.h"
 #include "sim/world/controller.h"
 #include "sim/world/snapshot.h"
 #include "sim/world/step.h"
 
 namespace culinarycut::server {
 
-SimulatorService::SimulatorService(RobotDescription robot, SessionManager* sessions, TelemetryPublisher* telemetry)
-    : robot_(std::move(robot)), sessions_(sessions), telemetry_(telemetry) {}
+SimulatorService::SimulatorService(RobotDescription robot, SessionManager* sessions, TelemetryPublisher* telemetry,
+                                   SharedRenderer* renderer)
+    : robot_(std::move(robot)), sessions_(sessions), telemetry_(telemetry), renderer_(renderer) {}
+
+grpc::Status SimulatorService::ObserveSession(Session& session, v1::FrameStamp* stamp, v1::Observation* observation,
+                                              RobotObservation* robot_observation, double* render_ms) {
+  *robot_observation = culinarycut::Observe(*session.model, session.state);
+  StampToWire(robot_observation->frame_id, robot_observation->sim_time_s, stamp);
+  ObservationToWire(*robot_observation, observation);
+  FoodObservationToWire(session.state, observation);
+  if (session.model->cameras.empty()) return grpc::Status::OK;
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    const render::RenderResult images = RenderCameras(renderer_->Get(), *session.model, &session.state);
+    CameraImagesToWire(*session.model, images, observation);
+  } catch (const render::RenderError& error) {
+    spdlog::error("session {}: rendering failed: {}", session.id, error.what());
+    return grpc::Status(grpc::StatusCode::INTERNAL,
+                        std::string("rendering the cameras failed: ") + error.what() +
+                            "; the simulation state is intact (Observe retries the images)");
+  }
+  if (render_ms) *render_ms = MillisecondsSince(start);
+  return grpc::Status::OK;
+}
 
 void SimulatorService::PublishTelemetry(const Session& session, const RobotObservation& observation) {
   if (!telemetry_) return;
@@ -23,7 +48,7 @@ grpc::Status SimulatorService::GetServerInfo(grpc::ServerContext*, const v1::Get
   info->set_version(kServerVersion);
   info->set_build_id(kBuildId);
   info->set_protocol("culinarycut.v1");
-  for (const char* capability : {"robot", "snapshot", "health", "reflection", "tasks", "oracle", "mpm"}) {
+  for (const char* capability : {"robot", "snapshot", "health", "reflection", "tasks", "oracle", "mpm", "cameras"}) {
     info->add_capabilities(capability);
   }
   if (telemetry_) {
@@ -46,6 +71,15 @@ grpc::Status SimulatorService::CreateSession(grpc::ServerContext*, const v1::Cre
     model = CompileModel(config, robot_);
   } catch (const SceneError& error) {
     return InvalidArgument(error.what());
+  }
+  if (!model->cameras.empty()) {
+    try {
+      renderer_->Get();
+    } catch (const render::RenderError& error) {
+      return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
+                          std::string("scene.cameras need the headless renderer, which could not start on this server: ") +
+                              error.what() + " (or leave scene.cameras empty to run without images)");
+    }
   }
   const std::shared_ptr<Session> session = sessions_->Create(model);
   if (!session) {
@@ -74,10 +108,11 @@ grpc::Status SimulatorService::Reset(grpc::ServerContext*, const v1::ResetReques
   } catch (const SceneError& error) {
     return InvalidArgument(error.what());
   }
-  const RobotObservation observation = culinarycut::Observe(*session->model, session->state);
-  StampToWire(observation.frame_id, observation.sim_time_s, response->mutable_stamp());
-  ObservationToWire(observation, response->mutable_observation());
-  FoodObservationToWire(session->state, response->mutable_observation());
+  RobotObservation observation;
+  if (grpc::Status status = ObserveSession(*session, response->mutable_stamp(), response->mutable_observation(), &observation);
+      !status.ok()) {
+    return status;
+  }
   response->set_seed(seed);
   PublishTelemetry(*session, observation);
   return grpc::Status::OK;
@@ -100,10 +135,13 @@ grpc::Status SimulatorService::Step(grpc::ServerContext*, const v1::StepRequest*
   if (!session->state.has_been_reset()) return NotReset(*session);
 
   const StepReport report = culinarycut::Step(*session->model, &session->state, action);
-  const RobotObservation observation = culinarycut::Observe(*session->model, session->state);
-  StampToWire(observation.frame_id, observation.sim_time_s, response->mutable_stamp());
-  ObservationToWire(observation, response->mutable_observation());
-  FoodObservationToWire(session->state, response->mutable_observation());
+  RobotObservation observation;
+  double render_ms = 0.0;
+  if (grpc::Status status = ObserveSession(*session, response->mutable_stamp(), response->mutable_observation(),
+                                           &observation, &render_ms);
+      !status.ok()) {
+    return status;
+  }
   response->set_reward(0.0);  // no task yet: rewards arrive with the cutting tasks
   response->set_terminated(false);
   response->set_truncated(report.truncated);
@@ -122,6 +160,7 @@ grpc::Status SimulatorService::Step(grpc::ServerContext*, const v1::StepRequest*
   info->set_mpm_wall_time_ms(report.mpm_wall_time_ms);
   info->set_topology_wall_time_ms(report.topology_wall_time_ms);
   info->set_first_contact(report.first_contact);
+  info->set_render_wall_time_ms(render_ms);
   PublishTelemetry(*session, observation);
   return grpc::Status::OK;
 }
@@ -131,11 +170,8 @@ grpc::Status SimulatorService::Observe(grpc::ServerContext*, const v1::ObserveRe
   if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
   std::lock_guard<std::mutex> lock(session->mutex);
   if (!session->state.has_been_reset()) return NotReset(*session);
-  const RobotObservation observation = culinarycut::Observe(*session->model, session->state);
-  StampToWire(observation.frame_id, observation.sim_time_s, response->mutable_stamp());
-  ObservationToWire(observation, response->mutable_observation());
-  FoodObservationToWire(session->state, response->mutable_observation());
-  return grpc::Status::OK;
+  RobotObservation observation;
+  return ObserveSession(*session, response->mutable_stamp(), response->mutable_observation(), &observation);
 }
 
 grpc::Status SimulatorService::CloseSession(grpc::ServerContext*, const v1::CloseSessionRequest* request,
@@ -172,10 +208,11 @@ grpc::Status SimulatorService::RestoreSnapshot(grpc::ServerContext*, const v1::R
   } catch (const SnapshotError& error) {
     return InvalidArgument(std::string("snapshot: ") + error.what());
   }
-  const RobotObservation observation = culinarycut::Observe(*session->model, session->state);
-  StampToWire(observation.frame_id, observation.sim_time_s, response->mutable_stamp());
-  ObservationToWire(observation, response->mutable_observation());
-  FoodObservationToWire(session->state, response->mutable_observation());
+  RobotObservation observation;
+  if (grpc::Status status = ObserveSession(*session, response->mutable_stamp(), response->mutable_observation(), &observation);
+      !status.ok()) {
+    return status;
+  }
   PublishTelemetry(*session, observation);
   return grpc::Status::OK;
 }

@@ -7,6 +7,7 @@
 
 #include "culinarycut/v1/simulator.grpc.pb.h"
 #include "server/session_manager.h"
+#include "server/shared_renderer.h"
 #include "server/telemetry_publisher.h"
 #include "sim/robot/robot_description.h"
 #include "sim/world/observation.h"
@@ -15,8 +16,9 @@ namespace culinarycut::server {
 
 class SimulatorService final : public v1::Simulator::Service {
  public:
-  // `telemetry` may be null (telemetry off).
-  SimulatorService(RobotDescription robot, SessionManager* sessions, TelemetryPublisher* telemetry);
+  // `telemetry` may be null (telemetry off); `renderer` starts only when a scene declares cameras.
+  SimulatorService(RobotDescription robot, SessionManager* sessions, TelemetryPublisher* telemetry,
+                   SharedRenderer* renderer);
 
   grpc::Status GetServerInfo(grpc::ServerContext*, const v1::GetServerInfoRequest*, v1::ServerInfo*) override;
   grpc::Status CreateSession(grpc::ServerContext*, const v1::CreateSessionRequest*, v1::CreateSessionResponse*) override;
@@ -30,10 +32,16 @@ class SimulatorService final : public v1::Simulator::Service {
 
  private:
   void PublishTelemetry(const Session& session, const RobotObservation& observation);
+  // The stamp and observation of the session's current state (proprioception, wrench, food, camera
+  // images) and its robot part for telemetry. Fails (INTERNAL) only when the renderer fails
+  // mid-episode; `render_ms` gets the time spent rendering.
+  grpc::Status ObserveSession(Session& session, v1::FrameStamp* stamp, v1::Observation* observation,
+                              RobotObservation* robot_observation, double* render_ms = nullptr);
 
   const RobotDescription robot_;
   SessionManager* sessions_;
   TelemetryPublisher* telemetry_;
+  SharedRenderer* renderer_;
 };
 
 }  // namespace culinarycut::server

@@ -1,5 +1,6 @@
 #include "server/wire_conversion.h"
 
+#include "server/camera_wire_conversion.h"
 #include "sim/world/control_mode.h"
 
 namespace culinarycut::server {
@@ -56,9 +57,7 @@ grpc::Status FoodFromWire(const v1::FoodObject& wire, const std::string& field, 
 }  // namespace
 
 grpc::Status SceneFromWire(const v1::SceneSpec& wire, SceneConfig* config) {
-  if (wire.cameras_size() > 0) return Unimplemented("scene.cameras", "camera rendering");
   if (wire.has_task()) return Unimplemented("scene.task", "cutting tasks in the scene");
-  if (wire.scene() == "kitchen") return Unimplemented("scene.scene=\"kitchen\"", "the kitchen scene");
   const v1::Effects& effects = wire.effects();
   if (effects.safety_limiter()) return Unimplemented("scene.effects.safety_limiter", "the safety limiter");
 
@@ -67,6 +66,13 @@ grpc::Status SceneFromWire(const v1::SceneSpec& wire, SceneConfig* config) {
                                  effects.friction(), effects.topology(), effects.force_sensing()};
   for (int i = 0; i < wire.objects_size(); ++i) {
     if (grpc::Status status = FoodFromWire(wire.objects(i), "scene.objects[" + std::to_string(i) + "]", &parsed.foods.emplace_back());
+        !status.ok()) {
+      return status;
+    }
+  }
+  for (int i = 0; i < wire.cameras_size(); ++i) {
+    if (grpc::Status status = CameraFromWire(wire.cameras(i), "scene.cameras[" + std::to_string(i) + "]",
+                                             &parsed.cameras.emplace_back());
         !status.ok()) {
       return status;
     }
@@ -106,6 +112,7 @@ v1::SceneSpec SceneToWire(const SceneConfig& config) {
   effects->set_friction(config.effects.friction);
   effects->set_topology(config.effects.topology);
   effects->set_force_sensing(config.effects.force_sensing);
+  for (const CameraConfig& camera : config.cameras) CameraToWire(camera, wire.add_cameras());
   for (const FoodConfig& food : config.foods) {
     v1::FoodObject* object = wire.add_objects();
     object->set_food(food.food);
@@ -180,7 +187,7 @@ void SessionStatsToWire(const Model& model, const State& state, v1::SessionStats
     wire->set_has_contact(state.food->first_contact_frame.has_value());
     wire->set_first_contact_frame(state.food->first_contact_frame.value_or(0));
   }
-  const char* names[] = {"control", "physics", "mpm", "topology"};
+  const char* names[] = {"control", "physics", "mpm", "topology", "render"};
   static_assert(sizeof(names) / sizeof(names[0]) == static_cast<int>(Stage::kCount), "one name per stage");
   for (int stage = 0; stage < static_cast<int>(Stage::kCount); ++stage) {
     (*wire->mutable_stage_wall_time_s())[names[stage]] = state.timers.total_seconds[stage];
@@ -218,6 +225,8 @@ void DescribeSpaces(const Model& model, v1::CreateSessionResponse* response) {
   AddArraySpec(response, "extra/flange_pose", 7, "flange [x, y, z] (m) and [qw, qx, qy, qz], world frame");
   AddArraySpec(response, "extra/wrist_wrench", 6,
                "food on knife at the flange, flange frame: [fx, fy, fz] (N), [tx, ty, tz] (N m); zeros without food");
+
+  DescribeCameraSpaces(model, response);
 
   for (ControlMode mode : AllControlModes()) {
     const ActionBounds bounds = ActionBoundsFor(model, mode);

@@ -13,7 +13,7 @@
 namespace culinarycut::server {
 
 // Reads a SceneSpec. INVALID_ARGUMENT for malformed fields, UNIMPLEMENTED for features this
-// server does not have yet (food, cameras, tasks); each message names the field.
+// server does not have yet; each message names the field.
 grpc::Status SceneFromWire(const v1::SceneSpec& wire, SceneConfig* config);
 
 // The scene with every default filled in, as the client should record it.

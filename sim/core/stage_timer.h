@@ -7,8 +7,8 @@
 
 namespace culinarycut {
 
-// Robot control, the robot's physics substeps, the food's MPM substeps, piece detection.
-enum class Stage { kControl = 0, kPhysics, kMpm, kTopology, kCount };
+// Robot control, the robot's physics substeps, the food's MPM substeps, piece detection, camera rendering.
+enum class Stage { kControl = 0, kPhysics, kMpm, kTopology, kRender, kCount };
 
 struct StageTimers {
   std::array<double, static_cast<int>(Stage::kCount)> total_seconds{};

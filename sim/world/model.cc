@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "sim/core/assets.h"
+#include "sim/world/camera_rig.h"
 
 namespace culinarycut {
 namespace {
@@ -68,6 +69,22 @@ std::shared_ptr<const Model> CompileModel(const SceneConfig& config, const Robot
   if (effects.mpm || !config.foods.empty() || effects.plasticity || effects.damage || effects.friction ||
       effects.topology || effects.force_sensing) {
     model->food = CompileFoodModel(config, model->layout);  // validates the effects against the foods
+  }
+
+  model->cameras = ResolveCameras(config.cameras, model->layout, robot);
+  for (std::size_t i = 0; i < model->cameras.size(); ++i) {  // echo what each camera resolved to
+    const render::CameraSpec& camera = model->cameras[i];
+    CameraConfig& resolved = model->config.cameras[i];
+    resolved.pose = camera.pose_in_world;
+    resolved.attached_link = camera.attached_link;
+    resolved.fov_y_deg = camera.fov_y_deg;
+    resolved.width = camera.width;
+    resolved.height = camera.height;
+    resolved.channels.clear();
+    if (camera.rgb) resolved.channels.push_back("rgb");
+    if (camera.depth) resolved.channels.push_back("depth");
+    if (camera.segmentation) resolved.channels.push_back("segmentation");
+    if (resolved.rgb_encoding.empty()) resolved.rgb_encoding = "raw";
   }
 
   std::uint64_t hash = 1469598103934665603ULL;

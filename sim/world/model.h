@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "sim/render/camera.h"
 #include "sim/robot/robot_description.h"
 #include "sim/world/food_model.h"
 #include "sim/world/scene_config.h"
@@ -41,6 +42,7 @@ struct Model {
   int substeps_per_control_step = 25;
   Eigen::VectorXd initial_qpos_rad;
   std::optional<FoodModel> food;        // only when the scene declares MPM food
+  std::vector<render::CameraSpec> cameras;  // config.cameras resolved, in the same order; empty: no rendering
   std::uint64_t fingerprint = 0;        // changes whenever anything that shapes a State changes
 };
 

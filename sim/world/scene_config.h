@@ -55,14 +55,17 @@ struct TaskConfig {
   bool empty() const { return instruction.empty() && cut_style.empty() && cut_state.empty(); }
 };
 
-// A camera; a name of a default camera (front, left, right, wrist) without a pose takes its pose.
+// A camera. A default camera's name (front, left, right, wrist) without a pose takes its pose.
 struct CameraConfig {
   std::string name;
-  std::optional<Eigen::Isometry3d> pose;   // OpenCV camera frame in the world (x right, y down, z forward)
-  double fov_y_deg = 0.0;                  // 0: the default camera's or 45 deg
-  int width = 0;                           // 0: 224
-  int height = 0;
+  // OpenCV camera frame (x right, y down, z forward) in the world, or in `attached_link`'s frame.
+  std::optional<Eigen::Isometry3d> pose;
+  std::string attached_link;               // "": fixed in the world; else a robot link, e.g. "panda_link8"
+  double fov_y_deg = 0.0;                  // vertical field of view; 0: the default camera's, else 55 deg
+  int width = 0;                           // pixels; 0: 224
+  int height = 0;                          // pixels; 0: 224
   std::vector<std::string> channels;       // rgb, depth, segmentation; empty: rgb
+  std::string rgb_encoding;                // on the wire: raw (default), png or jpeg
 };
 
 struct SceneConfig {

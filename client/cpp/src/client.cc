@@ -31,8 +31,19 @@ Observation FromWire(const v1::FrameStamp& stamp, const v1::Observation& wire) {
   return observation;
 }
 
+namespace {
+
+// Replies with camera images exceed gRPC's default 4 MB (three 640x480 RGB-D-segmentation views are 10 MB).
+std::shared_ptr<grpc::Channel> MakeChannel(const std::string& address) {
+  grpc::ChannelArguments arguments;
+  arguments.SetMaxReceiveMessageSize(512 * 1024 * 1024);
+  return grpc::CreateCustomChannel(address, grpc::InsecureChannelCredentials(), arguments);
+}
+
+}  // namespace
+
 Client::Client(const std::string& address, std::chrono::milliseconds call_timeout)
-    : channel_(grpc::CreateChannel(address, grpc::InsecureChannelCredentials())),
+    : channel_(MakeChannel(address)),
       stub_(v1::Simulator::NewStub(channel_)),
       tasks_stub_(v1::Tasks::NewStub(channel_)),
       call_timeout_(call_timeout) {}

@@ -31,8 +31,60 @@ def _f64(values) -> np.ndarray:
     return np.asarray(values, dtype=np.float64)
 
 
-def observation_to_dict(obs: simulator_pb2.Observation) -> dict[str, dict[str, np.ndarray]]:
-    """Observation proto to a ManiSkill-style nested dict of float64 arrays (SI units)."""
+# Replies with camera images exceed gRPC's default 4 MB limit (three 640x480 RGB-D-segmentation views
+# are 10 MB); the server caps a scene at 8 cameras of 2048 x 2048.
+MAX_MESSAGE_BYTES = 512 * 1024 * 1024
+
+
+def _decode_rgb(image: simulator_pb2.CameraImage) -> np.ndarray:
+    if image.rgb_encoding in ("", "raw"):
+        return np.frombuffer(image.rgb, dtype=np.uint8).reshape(image.height, image.width, 3)
+    import cv2  # only for PNG / JPEG images (Debian: python3-opencv)
+    bgr = cv2.imdecode(np.frombuffer(image.rgb, dtype=np.uint8), cv2.IMREAD_COLOR)
+    if bgr is None or bgr.shape[:2] != (image.height, image.width):
+        raise ValueError(f"camera {image.name!r}: the {image.rgb_encoding} image could not be decoded")
+    return np.ascontiguousarray(bgr[:, :, ::-1])
+
+
+def cameras_to_dict(obs: simulator_pb2.Observation) -> tuple[dict, dict]:
+    """ManiSkill's sensor_data (rgb uint8 HxWx3, depth float32 HxWx1 in m, segmentation int32 HxWx1)
+    and sensor_param (intrinsic_cv 3x3, extrinsic_cv 3x4, cam2world_gl 4x4) of each camera."""
+    sensor_data, sensor_param = {}, {}
+    for image in obs.cameras:
+        data = {}
+        if image.rgb:
+            data["rgb"] = _decode_rgb(image)
+        if image.depth:
+            data["depth"] = np.frombuffer(image.depth, dtype="<f4").reshape(image.height, image.width, 1)
+        if image.segmentation:
+            data["segmentation"] = np.frombuffer(image.segmentation, dtype="<i4").reshape(image.height, image.width, 1)
+        sensor_data[image.name] = data
+        sensor_param[image.name] = {
+            "intrinsic_cv": _f64(image.intrinsic_cv).reshape(3, 3),   # pixels
+            "extrinsic_cv": _f64(image.extrinsic_cv).reshape(3, 4),   # world -> OpenCV camera, m
+            "cam2world_gl": _f64(image.cam2world_gl).reshape(4, 4),   # OpenGL camera -> world, m
+        }
+    return sensor_data, sensor_param
+
+
+def segmentation_labels_to_dict(obs: simulator_pb2.Observation) -> dict[int, dict[str, Any]]:
+    """id -> {kind, object, piece, food} for the ids in this observation's segmentation images."""
+    return {int(label.id): {"kind": label.kind, "object": int(label.object), "piece": int(label.piece),
+                            "food": label.food} for label in obs.segmentation_labels}
+
+
+def observation_to_dict(obs: simulator_pb2.Observation) -> dict[str, dict[str, Any]]:
+    """Observation proto to a ManiSkill-style nested dict: float64 arrays in SI units, plus
+    sensor_data / sensor_param when the scene has cameras."""
+    result = _state_to_dict(obs)
+    if len(obs.cameras):
+        sensor_data, sensor_param = cameras_to_dict(obs)
+        result["sensor_param"] = sensor_param  # ManiSkill's order: agent, extra, sensor_param, sensor_data
+        result["sensor_data"] = sensor_data
+    return result
+
+
+def _state_to_dict(obs: simulator_pb2.Observation) -> dict[str, dict[str, np.ndarray]]:
     return {
         "agent": {
             "qpos": _f64(obs.agent.qpos),                # rad
@@ -87,7 +139,8 @@ class Client:
     def __init__(self, address: str = "127.0.0.1:50051", timeout_s: float = 30.0):
         self.address = address
         self.timeout_s = timeout_s
-        self._channel = grpc.insecure_channel(address)
+        self._channel = grpc.insecure_channel(address, options=[
+            ("grpc.max_receive_message_length", MAX_MESSAGE_BYTES)])
         self._stub = simulator_pb2_grpc.SimulatorStub(self._channel)
         self.tasks = TaskClient(self._channel, timeout_s)  # the Tasks service on the same channel
 

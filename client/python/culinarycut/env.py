@@ -5,7 +5,8 @@ from typing import Any
 
 import numpy as np
 
-from culinarycut.client import (Client, food_to_dict, observation_to_dict, stamp_to_dict, step_info_to_dict)
+from culinarycut.client import (Client, cameras_to_dict, food_to_dict, observation_to_dict,
+                                segmentation_labels_to_dict, stamp_to_dict, step_info_to_dict)
 from culinarycut.errors import InvalidArgument, NotFound
 from culinarycut.spaces import box_from_array_spec, dict_from_array_specs
 
@@ -20,12 +21,15 @@ class CulinaryCutEnv:
     the scene's seed, then draws each episode's server seed from np_random, so a run is reproducible.
     """
 
-    metadata: dict[str, Any] = {"render_modes": []}
+    metadata: dict[str, Any] = {"render_modes": ["rgb_array"]}
     spec = None
-    render_mode = None
 
     def __init__(self, address: str = "127.0.0.1:50051", scene=None, control_mode: str = "pd_ee_delta_pose",
-                 client: Client | None = None):
+                 client: Client | None = None, render_mode: str | None = None):
+        if render_mode not in (None, "rgb_array"):
+            raise ValueError(f"render_mode must be None or 'rgb_array', not {render_mode!r}")
+        self.render_mode = render_mode
+        self._last_observation = None  # the proto of the last reply, for render()
         self._owns_client = client is None
         self.client = client if client is not None else Client(address)
         self._session_id: str | None = None
@@ -48,6 +52,11 @@ class CulinaryCutEnv:
         self.action_space = box_from_array_spec(modes[control_mode].action)
         self.observation_space = dict_from_array_specs(handshake.observation_spec)
         self.control_timestep = float(handshake.control_timestep)  # s of sim time per step
+        self.camera_names = [c.name for c in handshake.resolved_scene.cameras if not c.channels or "rgb" in c.channels]
+        if render_mode == "rgb_array" and not self.camera_names:
+            self.close()
+            raise ValueError("render_mode='rgb_array' needs a camera with an rgb channel in the scene, "
+                             "e.g. scene={'cameras': [{'name': 'front'}]}")
         # Per-instance copy so render_fps reflects this session's control rate.
         self.metadata = dict(type(self).metadata)
         if self.control_timestep > 0:
@@ -105,7 +114,16 @@ class CulinaryCutEnv:
             self._seed_np_random(int(response.seed))
         info = stamp_to_dict(response.stamp)
         info["seed"] = int(response.seed)
+        self._add_observation_info(response.observation, info)
         return observation_to_dict(response.observation), info
+
+    def _add_observation_info(self, observation, info: dict[str, Any]) -> None:
+        """Variable-length parts of an observation go to info; keeps the proto for render()."""
+        self._last_observation = observation
+        if observation.HasField("food"):
+            info["food"] = food_to_dict(observation)
+        if len(observation.segmentation_labels):
+            info["segmentation_labels"] = segmentation_labels_to_dict(observation)
 
     def step(self, action):
         """Apply one action for control_timestep seconds; returns (obs, reward, terminated, truncated, info)."""
@@ -122,13 +140,22 @@ class CulinaryCutEnv:
             raise
         info = stamp_to_dict(response.stamp)
         info.update(step_info_to_dict(response.info))
-        if response.observation.HasField("food"):
-            info["food"] = food_to_dict(response.observation)
+        self._add_observation_info(response.observation, info)
         return (observation_to_dict(response.observation), float(response.reward),
                 bool(response.terminated), bool(response.truncated), info)
 
     def render(self):
-        return None  # render_mode is None: no rendering capability yet
+        """render_mode 'rgb_array': the RGB images of the scene's cameras at the last reset or step, side
+        by side (H x sum(W) x 3 uint8; cameras of different heights are padded with black).
+        None when render_mode is None (as in gymnasium)."""
+        if self.render_mode is None:
+            return None
+        if self._last_observation is None:
+            raise RuntimeError("render() before reset(): there is nothing to show yet")
+        images = [data["rgb"] for data in cameras_to_dict(self._last_observation)[0].values() if "rgb" in data]
+        height = max(image.shape[0] for image in images)
+        padded = [np.pad(image, ((0, height - image.shape[0]), (0, 0), (0, 0))) for image in images]
+        return np.concatenate(padded, axis=1)
 
     def close(self) -> None:
         """Close the server session (and the channel if this env created it); safe to call twice."""
