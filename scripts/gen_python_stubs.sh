@@ -6,7 +6,7 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
 
-PROTOS=(proto/culinarycut/v1/scene.proto proto/culinarycut/v1/simulator.proto proto/culinarycut/v1/task.proto)
+PROTOS=(proto/culinarycut/v1/scene.proto proto/culinarycut/v1/score.proto proto/culinarycut/v1/simulator.proto proto/culinarycut/v1/task.proto)
 OUT=client/python
 mkdir -p "$OUT/culinarycut/v1"
 
@@ -18,5 +18,5 @@ WELL_KNOWN="$(/usr/bin/python3 -c 'import grpc_tools, os; print(os.path.join(os.
 
 # Fail here rather than at first import if the generated modules are unusable.
 PYTHONPATH="$ROOT/$OUT" /usr/bin/python3 -c \
-  'from culinarycut.v1 import scene_pb2, simulator_pb2, simulator_pb2_grpc, task_pb2, task_pb2_grpc'
+  'from culinarycut.v1 import scene_pb2, score_pb2, simulator_pb2, simulator_pb2_grpc, task_pb2, task_pb2_grpc'
 echo "python stubs generated in $OUT/culinarycut/v1"

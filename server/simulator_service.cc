@@ -4,6 +4,7 @@
 
 #include "server/camera_wire_conversion.h"
 #include "server/service_status.h"
+#include "server/task_wire_conversion.h"
 #include "server/version.h"
 #include "server/wire_conversion.h"
 #include "sim/core/stage_timer.h"
@@ -24,6 +25,7 @@ grpc::Status SimulatorService::ObserveSession(Session& session, v1::FrameStamp* 
   StampToWire(robot_observation->frame_id, robot_observation->sim_time_s, stamp);
   ObservationToWire(*robot_observation, observation);
   FoodObservationToWire(session.state, observation);
+  if (session.model->task) observation->set_instruction(session.model->task->instruction);
   if (session.model->cameras.empty()) return grpc::Status::OK;
   const auto start = std::chrono::steady_clock::now();
   try {
@@ -142,9 +144,14 @@ grpc::Status SimulatorService::Step(grpc::ServerContext*, const v1::StepRequest*
       !status.ok()) {
     return status;
   }
-  response->set_reward(0.0);  // no task yet: rewards arrive with the cutting tasks
-  response->set_terminated(false);
   response->set_truncated(report.truncated);
+  if (const std::optional<TaskModel>& task = session->model->task) {
+    // ManiSkill's sparse reward: 1 while the task is done; the episode terminates once it is.
+    const task::TaskScore score = EvaluateTask(*task, *session->model->food, *session->state.food);
+    TaskScoreToWire(score, response->mutable_task_score());
+    response->set_reward(score.success ? 1.0 : 0.0);
+    response->set_terminated(score.success);
+  }
   v1::StepInfo* info = response->mutable_info();
   info->set_substeps(report.substeps);
   info->set_action_clipped(report.action_clipped);

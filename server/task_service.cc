@@ -1,5 +1,7 @@
 #include "server/task_service.h"
 
+#include <type_traits>
+
 #include <spdlog/spdlog.h>
 
 #include "server/service_status.h"
@@ -53,7 +55,9 @@ task::CutSpec SpecFromRequest(const Request& request) {
     case Request::kSpec:
       return CutSpecFromWire(request.spec());
     default:
-      throw task::TaskError("give either instruction (text) or spec (a CutSpec)");
+      throw task::TaskError(std::is_same_v<Request, v1::StartOracleRequest>
+                                ? "give instruction (text) or spec (a CutSpec), or declare scene.task in the session's scene"
+                                : "give either instruction (text) or spec (a CutSpec)");
   }
 }
 
@@ -135,7 +139,9 @@ grpc::Status TaskService::StartOracle(grpc::ServerContext*, const v1::StartOracl
   const Model& model = *session->model;
   return RunTask([&] {
     OracleConfig config;
-    config.spec = SpecFromRequest(*request);
+    // Without instruction or spec the oracle does the scene's own task, on its target object.
+    const bool scene_task = request->task_case() == v1::StartOracleRequest::TASK_NOT_SET && model.task;
+    config.spec = scene_task ? model.task->spec : SpecFromRequest(*request);
     for (int i = 0; i < request->objects_size(); ++i) {
       config.objects.push_back(
           ObjectBoxFromWire(request->objects(i), "objects[" + std::to_string(i) + "]"));
@@ -143,6 +149,9 @@ grpc::Status TaskService::StartOracle(grpc::ServerContext*, const v1::StartOracl
     // Without objects in the request, the oracle sees the scene's own food at rest.
     if (config.objects.empty() && session->model->food) config.objects = session->model->food->objects;
     config.target_name = request->target_name();
+    if (scene_task && config.target_name.empty() && request->objects_size() == 0) {
+      config.target_name = model.food->objects[static_cast<std::size_t>(model.task->target_object)].name;
+    }
     if (!request->control_mode().empty()) {
       const std::optional<ControlMode> mode = ParseControlMode(request->control_mode());
       if (!mode) {

@@ -57,7 +57,6 @@ grpc::Status FoodFromWire(const v1::FoodObject& wire, const std::string& field, 
 }  // namespace
 
 grpc::Status SceneFromWire(const v1::SceneSpec& wire, SceneConfig* config) {
-  if (wire.has_task()) return Unimplemented("scene.task", "cutting tasks in the scene");
   const v1::Effects& effects = wire.effects();
   if (effects.safety_limiter()) return Unimplemented("scene.effects.safety_limiter", "the safety limiter");
 
@@ -77,6 +76,10 @@ grpc::Status SceneFromWire(const v1::SceneSpec& wire, SceneConfig* config) {
       return status;
     }
   }
+  const v1::TaskSpec& task = wire.task();
+  parsed.task = TaskConfig{task.instruction(), task.cut_style(), task.cut_state(), task.ratio(),
+                           static_cast<int>(std::min<std::uint32_t>(task.split_pieces(), 1000)), task.target_object(),
+                           task.reference()};
   const v1::MpmSettings& mpm = wire.mpm();
   if (mpm.dx() != 0) parsed.mpm.dx_m = mpm.dx();
   if (mpm.particles_per_cell() != 0) parsed.mpm.particles_per_cell = static_cast<int>(std::min<std::uint32_t>(mpm.particles_per_cell(), 1000));
@@ -113,6 +116,16 @@ v1::SceneSpec SceneToWire(const SceneConfig& config) {
   effects->set_topology(config.effects.topology);
   effects->set_force_sensing(config.effects.force_sensing);
   for (const CameraConfig& camera : config.cameras) CameraToWire(camera, wire.add_cameras());
+  if (!config.task.empty()) {
+    v1::TaskSpec* task = wire.mutable_task();
+    task->set_instruction(config.task.instruction);
+    task->set_cut_style(config.task.cut_style);
+    task->set_cut_state(config.task.cut_state);
+    task->set_ratio(config.task.ratio);
+    task->set_split_pieces(static_cast<std::uint32_t>(config.task.split_pieces));
+    task->set_target_object(config.task.target_object);
+    task->set_reference(config.task.reference);
+  }
   for (const FoodConfig& food : config.foods) {
     v1::FoodObject* object = wire.add_objects();
     object->set_food(food.food);

@@ -71,6 +71,23 @@ std::shared_ptr<const Model> CompileModel(const SceneConfig& config, const Robot
     model->food = CompileFoodModel(config, model->layout);  // validates the effects against the foods
   }
 
+  if (!config.task.empty()) {
+    if (!model->food) throw SceneError("scene.task needs food: declare scene.objects with effects.mpm");
+    if (!config.effects.topology) {
+      throw SceneError("scene.task needs effects.topology: the food's pieces are how the cuts are measured");
+    }
+    model->task = CompileTask(config.task, *model->food, config.seed);
+    if (config.task.instruction.empty()) {  // echo the spec with the default rules applied
+      const task::CutSpec& spec = model->task->spec;
+      TaskConfig& resolved = model->config.task;
+      resolved.cut_style = task::Name(spec.style);
+      resolved.cut_state = task::Name(spec.state);
+      resolved.ratio = spec.state == task::CutState::kRatio ? spec.ratio : 0.0;
+      resolved.split_pieces = spec.state == task::CutState::kSplit ? spec.split_pieces : 0;
+      resolved.target_object = spec.target_object;
+      resolved.reference = task::Name(spec.reference);
+    }
+  }
   model->cameras = ResolveCameras(config.cameras, model->layout, robot);
   for (std::size_t i = 0; i < model->cameras.size(); ++i) {  // echo what each camera resolved to
     const render::CameraSpec& camera = model->cameras[i];

@@ -17,6 +17,7 @@
 #include "sim/world/food_model.h"
 #include "sim/world/scene_config.h"
 #include "sim/world/scene_layout.h"
+#include "sim/world/task_model.h"
 
 namespace culinarycut {
 
@@ -43,6 +44,7 @@ struct Model {
   Eigen::VectorXd initial_qpos_rad;
   std::optional<FoodModel> food;        // only when the scene declares MPM food
   std::vector<render::CameraSpec> cameras;  // config.cameras resolved, in the same order; empty: no rendering
+  std::optional<TaskModel> task;        // only when the scene declares a task (needs food with topology)
   std::uint64_t fingerprint = 0;        // changes whenever anything that shapes a State changes
 };
 

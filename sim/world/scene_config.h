@@ -45,14 +45,19 @@ struct MpmResolutionConfig {
   std::optional<double> cfl;
 };
 
-// A cutting task: a free-form instruction, or the fields of a cut spec.
+// A cutting task: a free-form instruction, or the fields of a cut spec (not both).
 struct TaskConfig {
   std::string instruction;
-  std::string cut_style;   // normal, bias, guillotine, saw
-  std::string cut_state;   // middle, ratio, split
-  double ratio = 0.0;
-  int split_pieces = 0;
-  bool empty() const { return instruction.empty() && cut_style.empty() && cut_state.empty(); }
+  std::string cut_style;      // normal, bias, guillotine, saw; empty: the paper's default rules
+  std::string cut_state;      // middle, ratio, split
+  double ratio = 0.0;         // ratio only: 0.1-0.9 from `reference`
+  int split_pieces = 0;       // split only: 3, 4 or 5
+  std::string target_object;  // a food of the scene; empty: the scene's only food
+  std::string reference;      // none, left, right, top, along_length
+  bool empty() const {
+    return instruction.empty() && cut_style.empty() && cut_state.empty() && target_object.empty() &&
+           reference.empty() && ratio == 0.0 && split_pieces == 0;
+  }
 };
 
 // A camera. A default camera's name (front, left, right, wrist) without a pose takes its pose.

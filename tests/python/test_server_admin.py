@@ -27,7 +27,6 @@ def test_health_service_reports_serving(address, service):
 
 
 @pytest.mark.parametrize("scene, field", [
-    ({"task": {"ratio": 0.3}}, "scene.task"),
     ({"effects": {"safety_limiter": True}}, "scene.effects.safety_limiter"),
 ])
 def test_scene_features_not_built_yet_are_refused_not_dropped(client, scene, field):

@@ -112,8 +112,8 @@ def test_oracle_errors(client, session):
     oracle = ScriptedOracle(client, session)
     with pytest.raises(errors.InvalidArgument, match="the scene has apple_0"):
         oracle.reset("cut the banana in half", objects=[APPLE])
-    with pytest.raises(ValueError, match="exactly one of instruction"):
-        oracle.reset(objects=[APPLE])
+    with pytest.raises(errors.InvalidArgument, match="scene.task"):
+        oracle.reset(objects=[APPLE])  # neither instruction nor spec, and the scene has no task
     with pytest.raises(ValueError, match="unknown keys"):
         oracle.reset("cut the apple in half", objects=[{**APPLE, "size": 1}])
 

@@ -9,6 +9,7 @@ from culinarycut.client import (Client, cameras_to_dict, food_to_dict, observati
                                 segmentation_labels_to_dict, stamp_to_dict, step_info_to_dict)
 from culinarycut.errors import InvalidArgument, NotFound
 from culinarycut.spaces import box_from_array_spec, dict_from_array_specs
+from culinarycut.tasks import score_to_dict
 
 _RESET_OPTIONS = {"initial_qpos"}
 
@@ -122,6 +123,8 @@ class CulinaryCutEnv:
         self._last_observation = observation
         if observation.HasField("food"):
             info["food"] = food_to_dict(observation)
+        if observation.instruction:
+            info["instruction"] = observation.instruction
         if len(observation.segmentation_labels):
             info["segmentation_labels"] = segmentation_labels_to_dict(observation)
 
@@ -141,6 +144,9 @@ class CulinaryCutEnv:
         info = stamp_to_dict(response.stamp)
         info.update(step_info_to_dict(response.info))
         self._add_observation_info(response.observation, info)
+        if response.HasField("task_score"):  # a scene task: the success metrics, final at the episode's end
+            info["success"] = bool(response.task_score.success)
+            info["task"] = score_to_dict(response.task_score)
         return (observation_to_dict(response.observation), float(response.reward),
                 bool(response.terminated), bool(response.truncated), info)
 

@@ -104,7 +104,8 @@ def _fields(message) -> dict[str, Any]:
     return {field.name: getattr(message, field.name) for field in message.DESCRIPTOR.fields}
 
 
-def score_to_dict(score: task_pb2.TaskScore) -> dict[str, Any]:
+def score_to_dict(score) -> dict[str, Any]:
+    """A TaskScore (score_pb2) to a dict: success, cut counts, per required cut errors, summary."""
     result = _fields(score)
     result["required"] = [_fields(required) for required in score.required]
     return result
@@ -174,14 +175,16 @@ class TaskClient:
                                               sample_rate_hz=float(sample_rate_hz))
         if seed is not None:
             request.seed.value = int(seed)
-        _set_task(request, instruction, spec)
+        _set_task(request, instruction, spec, scene_task_allowed=True)
         return plan_to_dict(self._call(self._stub.StartOracle, request).plan)
 
     def oracle_action(self, session_id: str) -> task_pb2.OracleActionResponse:
         return self._call(self._stub.OracleAction, task_pb2.OracleActionRequest(session_id=session_id))
 
 
-def _set_task(request, instruction: str | None, spec) -> None:
+def _set_task(request, instruction: str | None, spec, scene_task_allowed: bool = False) -> None:
+    if instruction is None and spec is None and scene_task_allowed:
+        return  # the session's scene task
     if (instruction is None) == (spec is None):
         raise ValueError("give exactly one of instruction (text) or spec (dict)")
     if instruction is not None:

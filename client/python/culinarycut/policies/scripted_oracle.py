@@ -36,7 +36,8 @@ class ScriptedOracle:
               target_name: str = "", control_mode: str = "", options=None,
               seed: int | None = None) -> dict[str, Any]:
         """Plan a new cut from the robot's current state; returns the plan (see tasks.plan_to_dict).
-        Without objects the oracle sees the scene's own food objects."""
+        Without objects the oracle sees the scene's own food objects; without instruction and spec
+        it does the scene's task (SceneSpec.task)."""
         self.plan = self.tasks.start_oracle(self.session_id, objects, instruction=instruction, spec=spec,
                                             target_name=target_name, control_mode=control_mode,
                                             options=options, seed=seed)

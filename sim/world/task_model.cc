@@ -1,0 +1,102 @@
+#include "sim/world/task_model.h"
+
+#include <set>
+#include <utility>
+
+#include "sim/task/instruction_generator.h"
+#include "sim/task/instruction_parser.h"
+#include "sim/world/model.h"
+
+namespace culinarycut {
+namespace {
+
+bool HasSpecFields(const TaskConfig& config) {
+  return !config.cut_style.empty() || !config.cut_state.empty() || config.ratio != 0.0 || config.split_pieces != 0 ||
+         !config.target_object.empty() || !config.reference.empty();
+}
+
+// The scene's only food type, for a task that names none.
+std::string OnlyFood(const FoodModel& food) {
+  std::set<std::string> foods;
+  for (const task::ObjectBox& object : food.objects) foods.insert(object.food);
+  if (foods.size() != 1) {
+    throw SceneError("scene.task.target_object is needed: the scene has " + std::to_string(foods.size()) +
+                     " kinds of food");
+  }
+  return *foods.begin();
+}
+
+task::CutSpec SpecFromFields(const TaskConfig& config, const FoodModel& food) {
+  task::PartialCutSpec partial;
+  if (!config.cut_style.empty()) partial.style = task::CutStyleFromName(config.cut_style);
+  if (!config.cut_state.empty()) partial.state = task::CutStateFromName(config.cut_state);
+  if (partial.state == task::CutState::kRatio && config.ratio == 0.0) {
+    throw SceneError("scene.task.ratio is needed for a ratio cut (0.1-0.9 of the length from `reference`)");
+  }
+  if (partial.state == task::CutState::kSplit && config.split_pieces == 0) {
+    throw SceneError("scene.task.split_pieces is needed for a split cut (3, 4 or 5)");
+  }
+  if (config.ratio != 0.0) partial.ratio = config.ratio;
+  if (config.split_pieces != 0) partial.split_pieces = config.split_pieces;
+  partial.target_object = config.target_object.empty() ? OnlyFood(food) : config.target_object;
+  if (!config.reference.empty()) partial.reference = task::DirectionalReferenceFromName(config.reference);
+  return task::ResolveDefaults(partial);
+}
+
+}  // namespace
+
+TaskModel CompileTask(const TaskConfig& config, const FoodModel& food, std::uint64_t seed) {
+  TaskModel model;
+  try {
+    if (!config.instruction.empty()) {
+      if (HasSpecFields(config)) {
+        throw SceneError("scene.task: give either instruction or the cut spec fields, not both");
+      }
+      model.spec = task::ParseInstruction(config.instruction);
+      model.instruction = config.instruction;
+    } else {
+      model.spec = SpecFromFields(config, food);
+    }
+  } catch (const task::TaskError& error) {
+    throw SceneError(std::string(config.instruction.empty() ? "scene.task: " : "scene.task.instruction: ") +
+                     error.what());
+  }
+  int matches = 0;
+  for (std::size_t i = 0; i < food.objects.size(); ++i) {
+    if (food.objects[i].food != model.spec.target_object) continue;
+    if (matches++ == 0) model.target_object = static_cast<int>(i);
+  }
+  if (matches != 1) {
+    throw SceneError("scene.task targets " + model.spec.target_object + ", but the scene has " +
+                     std::to_string(matches) + " of it; a task needs exactly one target object");
+  }
+  if (model.instruction.empty()) {
+    try {
+      model.instruction = task::GenerateInstructions(model.spec, seed, 1, task::LanguageSplit::kTrain).front();
+    } catch (const task::TaskError&) {
+      model.instruction = task::Describe(model.spec);  // no template says this spec
+    }
+  }
+  model.description = task::Describe(model.spec);
+  model.object_particles.assign(food.objects.size(), 0);
+  for (std::uint16_t object : food.initial_particles.object) ++model.object_particles[object];
+  return model;
+}
+
+task::TaskScore EvaluateTask(const TaskModel& task, const FoodModel& food, const FoodState& state) {
+  std::vector<std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>> bounds_of_object(food.objects.size());
+  for (const mpm::Piece& piece : state.pieces) {
+    const double share = static_cast<double>(piece.particle_count) / std::max<std::size_t>(1, task.object_particles[piece.object]);
+    if (share < task.min_piece_fraction) continue;  // a crumb, not a piece
+    bounds_of_object[piece.object].emplace_back(piece.bounds_m.min(), piece.bounds_m.max());
+  }
+  std::vector<task::MeasuredCut> cuts;
+  for (std::size_t i = 0; i < food.objects.size(); ++i) {
+    for (task::MeasuredCut& cut : task::CutsFromPieceBounds(food.objects[i], bounds_of_object[i])) {
+      cuts.push_back(std::move(cut));
+    }
+  }
+  return task::ScoreCuts(food.objects[static_cast<std::size_t>(task.target_object)], task.spec, cuts, task.tolerances);
+}
+
+}  // namespace culinarycut
