@@ -1,5 +1,6 @@
 #include "sim/world/food_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -93,7 +94,6 @@ FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout)
   solver.dx_m = resolution.dx_m;
   solver.cfl = resolution.cfl;
   solver.gravity_m_s2 = layout.gravity_m_s2;
-  solver.threads = static_cast<int>(std::max(1u, std::min(2u, std::thread::hardware_concurrency())));
   solver.effects.plasticity = config.effects.plasticity;
   solver.effects.damage = config.effects.damage;
   solver.effects.friction = config.effects.friction;
@@ -142,6 +142,13 @@ FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout)
     box.extent_m = shape->LocalBounds().sizes();
     food_model.objects.push_back(box);
   }
+  // A second thread pays off only with enough particles to split: below that the OpenMP barriers of
+  // a substep cost more than they save (10k particles: 5.8 M particle-steps/s on 1 thread, 5.3 M on
+  // 2, docs/benchmarks/mpm_throughput.md), and on a busy machine far more (the draft example cut:
+  // 4.7 s of MPM on 1 thread against 9.5-32 s on 2).
+  const std::size_t threads_by_size = food_model.initial_particles.size() / kParticlesPerMpmThread;
+  solver.threads = static_cast<int>(std::clamp<std::size_t>(
+      threads_by_size, 1, std::max(1u, std::min(2u, std::thread::hardware_concurrency()))));
   return food_model;
 }
 
