@@ -58,7 +58,7 @@ def run_episode(client: Client, scene: dict, seed: int = 0, on_step=None, max_st
             on_step(0, observation, info)
         oracle = ScriptedOracle(client, env.session_id)
         oracle.reset()  # the scene's task
-        trace = {"time_s": [], "wrist_force_n": [], "phase": [], "reward": [], "step_wall_s": [],
+        trace = {"time_s": [], "wrist_force_n": [], "tcp_z_m": [], "phase": [], "reward": [], "step_wall_s": [],
                  "first_contact_step": None, "terminated_step": None}
         step = 0
         while not oracle.finished and step < max_steps and time.perf_counter() - started < max_wall_s:
@@ -69,6 +69,7 @@ def run_episode(client: Client, scene: dict, seed: int = 0, on_step=None, max_st
             step += 1
             trace["time_s"].append(info["sim_time"])
             trace["wrist_force_n"].append(observation["extra"]["wrist_wrench"][:3].tolist())
+            trace["tcp_z_m"].append(float(observation["extra"]["tcp_pose"][2]))  # the knife edge's height
             trace["phase"].append(oracle.phase)
             trace["reward"].append(reward)
             if info["first_contact"]:
