@@ -135,7 +135,7 @@ def main() -> int:
         "",
         "## Roofline estimate",
         f"- Memory: a STREAM-like triad on 2 threads moves {triad / 1e9:.1f} GB/s. One particle-step streams about "
-        f"{BYTES_PER_PARTICLE_STEP} bytes of particle state (setup reads x three times; the stress reads F, C, x, "
+        f"{BYTES_PER_PARTICLE_STEP} bytes of particle state (setup reads x twice and v, m once; the stress reads F, C, x, "
         "v, m, V, D and writes each particle's node momentum, 64 bytes, which the scatter reads back; G2P reads "
         "x, v, F and writes F, C, x, v; the grid box stays in cache), so memory caps the kernel at "
         f"{memory_limit / 1e6:.0f} M particle-steps/s.",

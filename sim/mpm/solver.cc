@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <stdexcept>
 #include <string>
 
@@ -118,24 +119,77 @@ SubstepContext Solver<Real>::MakeContext(double dt_s) const {
   return context;
 }
 
-// Summed in fixed chunks: the same bits on any thread count.
+// Every thread of the team runs this; the stages share their work out inside and end with a
+// barrier where the next stage needs all of it. Errors are kept for Substep to throw after the
+// region (an exception may not leave it).
 template <typename Real>
-Eigen::Vector3d Solver<Real>::TotalMomentum() const {
-  const Particles<Real>& p = particles_;
-  const std::size_t n = p.size();
-  std::vector<Eigen::Vector3d> momentum_of_chunk(ChunkCount(n), Eigen::Vector3d::Zero());
-#pragma omp parallel for num_threads(config_.threads) schedule(static)
-  for (std::int64_t c = 0; c < static_cast<std::int64_t>(momentum_of_chunk.size()); ++c) {
-    const std::size_t end_q = std::min(n, (c + 1) * kChunk);
-    for (std::size_t q = c * kChunk; q < end_q; ++q) {
-      for (int axis = 0; axis < 3; ++axis) {
-        momentum_of_chunk[c][axis] += double(p.mass[q]) * p.velocity[axis][q];
+void Solver<Real>::RunSubstepInTeam(const SubstepContext& context, SubstepShared* shared,
+                                    ContactState* contact) {
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point stage_start = Clock::now();
+  // Called right after a barrier: the master thread times the stage that just ended.
+  auto end_stage = [&](int stage) {
+#pragma omp master
+    {
+      const Clock::time_point now = Clock::now();
+      shared->stage_ms[stage] = std::chrono::duration<double, std::milli>(now - stage_start).count();
+      stage_start = now;
+      shared->g2p_start = now;  // G2P ends with the region: Substep times it
+    }
+  };
+  auto guarded = [shared](auto&& work) {
+    try {
+      work();
+    } catch (...) {
+#pragma omp critical(culinarycut_mpm_substep_error)
+      {
+        if (!shared->failed) shared->error = std::current_exception();
+        shared->failed = true;
       }
     }
+  };
+
+  // Setup: one thread looks for split nodes near the blade while the others scan the particles
+  // (bounds, side labels, momentum); then every thread fits the grid box from the bounds, and the
+  // team sorts the particles into P2G blocks (and now and then stores them in that order).
+#pragma omp single nowait
+  guarded([&] { FindSplitCandidates(context); });
+  ScanParticles(context);  // ends with a barrier
+  Eigen::Vector3i origin, dims;
+  bool box_ok = true;
+  try {
+    FitGridBox(context, &origin, &dims);  // the same on every thread, errors included
+  } catch (...) {
+    box_ok = false;
+#pragma omp master
+    shared->box_error = std::current_exception();
   }
-  Eigen::Vector3d total = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& chunk : momentum_of_chunk) total += chunk;
-  return total;
+  // Candidates' errors are read after the scan's barrier; box errors are every thread's own.
+  if (!box_ok || shared->failed) return;
+  SortParticlesIntoBlocks(context, origin, dims, shared);
+  if (shared->failed) return;
+  end_stage(0);
+
+  // P2G: stress into each particle's affine momentum, then mass and momentum to the grid.
+  ScatterToGrid(context);  // ends with a barrier
+#pragma omp master
+  {
+    double elastic_energy_j = 0.0;
+    for (const double energy : workspace_->elastic_energy_of_chunk) elastic_energy_j += energy;
+    shared->elastic_energy_j = elastic_energy_j;
+  }
+  end_stage(1);
+
+  // Grid update: velocities, gravity, damping, colliders and their impulses. Each thread gets
+  // its own copy of the contact state; the master's goes to the diagnostics.
+  ContactState own_contact;
+  UpdateGrid(context, &own_contact);  // the node loop ends with a barrier
+  end_stage(2);
+
+  // G2P: velocity and affine field back, F update with J clamp, damage, tip force.
+  GridToParticles(context, own_contact);  // no barrier: the region's end is one
+#pragma omp master
+  *contact = own_contact;
 }
 
 template <typename Real>
@@ -147,39 +201,32 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   diagnostics.dt_s = dt_s;
   if (particles_.size() == 0) return diagnostics;
   const SubstepContext context = MakeContext(dt_s);
-  using Clock = std::chrono::steady_clock;
-  auto elapsed_ms = [](Clock::time_point since) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
-  };
-  Clock::time_point stage_start = Clock::now();
 
-  // Setup: grid box, split nodes and side labels (CPIC), P2G blocks, momentum before the step.
-  FitGridBox();
+  // One parallel region for the whole substep (one fork and join).
+  // No smaller team for few particles: the results are the same bits on any team, and the tests'
+  // one-against-two-threads check (about 2000 particles) must run a real team of two.
+  const int team = config_.threads;
+  PrepareWorkspace(team);
+  SubstepShared shared;
+  ContactState contact;
+#pragma omp parallel num_threads(team)
+  RunSubstepInTeam(context, &shared, &contact);
+  if (shared.failed || shared.box_error) {
+    --workspace_->substeps_since_reorder;  // this substep did not happen
+    std::rethrow_exception(shared.failed ? shared.error : shared.box_error);
+  }
+  shared.stage_ms[3] = std::chrono::duration<double, std::milli>(
+                          std::chrono::steady_clock::now() - shared.g2p_start).count();
   diagnostics.grid_cells = grid_->dims;
-  SplitNodesNearBlade(context);
-  LabelBladeSides(context);
-  SortParticlesIntoBlocks(context);
-  const Eigen::Vector3d momentum_before =
-      config_.effects.force_sensing ? TotalMomentum() : Eigen::Vector3d::Zero();
-  diagnostics.setup_ms = elapsed_ms(stage_start);
-  stage_start = Clock::now();
-
-  // P2G: stress into each particle's affine momentum, then mass and momentum to the grid.
-  const double elastic_energy_j = ComputeAffineMomentum(context);
-  ScatterToGrid(context);
-  diagnostics.p2g_ms = elapsed_ms(stage_start);
-  stage_start = Clock::now();
-
-  // Grid update: velocities, gravity, damping, colliders and their impulses.
-  const ContactState contact = UpdateGrid(context);
+  diagnostics.setup_ms = shared.stage_ms[0];
+  diagnostics.p2g_ms = shared.stage_ms[1];
+  diagnostics.grid_ms = shared.stage_ms[2];
+  diagnostics.g2p_ms = shared.stage_ms[3];
   const GridTotals& grid_totals = contact.totals;
-  diagnostics.grid_ms = elapsed_ms(stage_start);
-  stage_start = Clock::now();
-
-  // G2P: velocity and affine field back, F update with J clamp, damage, tip force.
-  ParticleTotals particle_totals = GridToParticles(context, contact);
-  particle_totals.elastic_energy = elastic_energy_j;
-  diagnostics.g2p_ms = elapsed_ms(stage_start);
+  ParticleTotals particle_totals = SumChunks(workspace_->particle_chunks);
+  particle_totals.elastic_energy = shared.elastic_energy_j;
+  Eigen::Vector3d momentum_before = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& chunk : workspace_->momentum_of_chunk) momentum_before += chunk;
 
   // Diagnostics: the sums of the stages, the forces on the colliders, the momentum check.
   diagnostics.j_min = particle_totals.j_min;

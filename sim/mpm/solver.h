@@ -3,6 +3,7 @@
 // (F update, J clamp, damage, tip force). The grid covers only the particles' neighbourhood.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -20,6 +21,7 @@ namespace culinarycut::mpm {
 struct SubstepContext;  // solver_internals.h
 struct ContactState;
 struct ParticleTotals;  // substep_totals.h
+struct SubstepShared;   // solver_internals.h
 
 // What one substep did and measured. Forces are those the food exerts on each collider (N,
 // world frame), from the grid impulse F = -sum m (v_after - v_before) / dt.
@@ -92,18 +94,29 @@ class Solver {
   struct Grid;        // the bounded grid box (solver_internals.h)
   struct Workspace;   // per-substep scratch arrays, reused (solver_internals.h)
 
-  // The stages of Substep, in order; each file solver_<stage>.cc holds one.
+  // The stages of Substep, in order; each file solver_<stage>.cc holds one. Substep runs them
+  // all in one OpenMP parallel region: every thread of the team calls each stage, which shares its
+  // work out inside (orphaned work-sharing; one fork and join per substep, few barriers).
   SubstepContext MakeContext(double dt_s) const;              // solver.cc
-  void FitGridBox();                                          // solver_grid_box.cc
-  void SplitNodesNearBlade(const SubstepContext& context);    // solver_blade_sides.cc
-  void LabelBladeSides(const SubstepContext& context);        // solver_blade_sides.cc
-  void SortParticlesIntoBlocks(const SubstepContext& context);  // solver_grid_box.cc
-  Eigen::Vector3d TotalMomentum() const;                      // solver.cc, N s
-  double ComputeAffineMomentum(const SubstepContext& context);  // solver_stress.cc; returns J
-  void ScatterToGrid(const SubstepContext& context);          // solver_p2g.cc
-  ContactState UpdateGrid(const SubstepContext& context);     // solver_grid_update.cc
-  ParticleTotals GridToParticles(const SubstepContext& context,
-                                 const ContactState& contact);  // solver_g2p.cc
+  void PrepareWorkspace(int team);                            // solver_grid_box.cc, before the team
+  void RunSubstepInTeam(const SubstepContext& context, SubstepShared* shared,
+                        ContactState* contact);               // solver.cc, every thread
+  void FindSplitCandidates(const SubstepContext& context);    // solver_blade_sides.cc, one thread
+  void ScanParticles(const SubstepContext& context);          // solver_grid_box.cc, team
+  void FitGridBox(const SubstepContext& context, Eigen::Vector3i* origin,
+                  Eigen::Vector3i* dims) const;               // solver_grid_box.cc, every thread
+  void SplitNodesNearBlade(const SubstepContext& context);    // solver_blade_sides.cc, a section
+  void LabelBladeSides(const SubstepContext& context, std::size_t begin,
+                       std::size_t end);                      // solver_blade_sides.cc, a chunk
+  void SortParticlesIntoBlocks(const SubstepContext& context, const Eigen::Vector3i& origin,
+                               const Eigen::Vector3i& dims,
+                               SubstepShared* shared);        // solver_grid_box.cc, team
+  double ComputeAffineMomentum(const SubstepContext& context,
+                               std::size_t chunk);            // solver_stress.cc; returns J
+  void ScatterToGrid(const SubstepContext& context);          // solver_p2g.cc, team
+  void UpdateGrid(const SubstepContext& context, ContactState* contact);  // solver_grid_update.cc
+  void GridToParticles(const SubstepContext& context,
+                       const ContactState& contact);          // solver_g2p.cc, team
 
   SolverConfig config_;
   std::vector<Material> materials_;

@@ -2,6 +2,7 @@
 // layer per blade side, and the particles near the blade carry the side they are on.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "sim/mpm/solver_internals.h"
 
@@ -12,33 +13,98 @@ namespace {
 // unsplit nodes, which is where cutting resistance and damage come from.
 constexpr double kSplitAboveEdgeCells = 0.5;
 
+// Whether the grid node at global index `node` is split by side: close to the blade's mid-plane,
+// within its length, and at least half a cell above the edge.
+bool IsSplitNode(const KnifeSdf& knife, const SubstepContext& context, const Eigen::Vector3i& node) {
+  const double dx = context.dx_m;
+  const Eigen::Vector3d local =
+      knife.ToTcpFrame(Eigen::Vector3d(node.x() * dx, node.y() * dx, node.z() * dx));
+  const double height_m = -local.z();
+  return std::abs(local.y()) < context.split_half_width_m &&
+         std::abs(local.x()) <= context.half_length_m && height_m >= kSplitAboveEdgeCells * dx &&
+         height_m <= context.blade_height_m + 0.5 * dx;
+}
+
+// The global node box that may hold split nodes (inclusive; empty when low > high).
+void SplitRegion(const KnifeSdf& knife, const SubstepContext& context, Eigen::Vector3i* low,
+                 Eigen::Vector3i* high) {
+  const double dx = context.dx_m;
+  const Eigen::AlignedBox3d region = knife.BladeBounds(context.split_half_width_m + dx);
+  for (int axis = 0; axis < 3; ++axis) {
+    (*low)[axis] = static_cast<int>(std::floor(region.min()[axis] / dx));
+    (*high)[axis] = static_cast<int>(std::ceil(region.max()[axis] / dx));
+  }
+}
+
 }  // namespace
+
+// Runs on one thread while the others scan the particles: the split nodes within last substep's
+// grid box grown by a cell (the box moves little), in global indices and lexicographic order.
+template <typename Real>
+void Solver<Real>::FindSplitCandidates(const SubstepContext& context) {
+  Workspace& work = *workspace_;
+  const Grid& grid = *grid_;
+  work.split_candidates.clear();
+  work.candidate_low = Eigen::Vector3i::Zero();
+  work.candidate_high = -Eigen::Vector3i::Ones();
+  if (!context.split_on || grid.size() == 0) return;
+  Eigen::Vector3i low, high;
+  SplitRegion(*knife_, context, &low, &high);
+  // Grown by one cell each side: std::max / min in int64 so that no index overflows.
+  for (int axis = 0; axis < 3; ++axis) {
+    low[axis] = std::max(low[axis], grid.origin[axis] - 1);
+    high[axis] = static_cast<int>(std::min<std::int64_t>(
+        high[axis], std::int64_t(grid.origin[axis]) + grid.dims[axis]));
+  }
+  work.candidate_low = low;
+  work.candidate_high = high;
+  for (int i = low.x(); i <= high.x(); ++i) {
+    for (int j = low.y(); j <= high.y(); ++j) {
+      for (int k = low.z(); k <= high.z(); ++k) {
+        const Eigen::Vector3i node(i, j, k);
+        if (IsSplitNode(*knife_, context, node)) work.split_candidates.push_back(node);
+      }
+    }
+  }
+}
 
 template <typename Real>
 void Solver<Real>::SplitNodesNearBlade(const SubstepContext& context) {
   Grid& grid = *grid_;
+  Workspace& work = *workspace_;
   grid.split_slot.assign(context.split_on ? grid.size() : 0, -1);
   grid.split_nodes.clear();
-  if (!context.split_on) return;
-  const double dx = context.dx_m;
-  const Eigen::AlignedBox3d region = knife_->BladeBounds(context.split_half_width_m + dx);
-  Eigen::Vector3i lo, hi;
-  for (int axis = 0; axis < 3; ++axis) {
-    lo[axis] = std::max(0, static_cast<int>(std::floor(region.min()[axis] / dx)) - grid.origin[axis]);
-    hi[axis] = std::min(grid.dims[axis] - 1,
-                        static_cast<int>(std::ceil(region.max()[axis] / dx)) - grid.origin[axis]);
-  }
-  for (int i = lo.x(); i <= hi.x(); ++i) {
-    for (int j = lo.y(); j <= hi.y(); ++j) {
-      for (int k = lo.z(); k <= hi.z(); ++k) {
-        const Eigen::Vector3d local = knife_->ToTcpFrame(grid.Position(i, j, k, dx));
-        const double height_m = -local.z();
-        if (std::abs(local.y()) < context.split_half_width_m &&
-            std::abs(local.x()) <= context.half_length_m && height_m >= kSplitAboveEdgeCells * dx &&
-            height_m <= context.blade_height_m + 0.5 * dx) {
-          const std::size_t index = grid.Index(i, j, k);
-          grid.split_slot[index] = static_cast<std::int32_t>(grid.split_nodes.size());
-          grid.split_nodes.push_back(index);
+  if (context.split_on) {
+    // The nodes of this substep's grid box that may be split (global indices, inclusive).
+    Eigen::Vector3i low, high;
+    SplitRegion(*knife_, context, &low, &high);
+    for (int axis = 0; axis < 3; ++axis) {
+      low[axis] = std::max(low[axis], grid.origin[axis]);
+      high[axis] = std::min(high[axis], grid.origin[axis] + grid.dims[axis] - 1);
+    }
+    auto add = [&](const Eigen::Vector3i& node) {
+      const Eigen::Vector3i local = node - grid.origin;
+      const std::size_t index = grid.Index(local.x(), local.y(), local.z());
+      grid.split_slot[index] = static_cast<std::int32_t>(grid.split_nodes.size());
+      grid.split_nodes.push_back(index);
+    };
+    const bool empty = (low.array() > high.array()).any();
+    const bool covered = (work.candidate_low.array() <= low.array()).all() &&
+                         (high.array() <= work.candidate_high.array()).all();
+    if (empty) {
+      // No node of the box is near the blade.
+    } else if (covered) {
+      // The candidates in lexicographic order, restricted to the box: the same slots as a search.
+      for (const Eigen::Vector3i& node : work.split_candidates) {
+        if ((node.array() >= low.array()).all() && (node.array() <= high.array()).all()) add(node);
+      }
+    } else {
+      for (int i = low.x(); i <= high.x(); ++i) {
+        for (int j = low.y(); j <= high.y(); ++j) {
+          for (int k = low.z(); k <= high.z(); ++k) {
+            const Eigen::Vector3i node(i, j, k);
+            if (IsSplitNode(*knife_, context, node)) add(node);
+          }
         }
       }
     }
@@ -46,14 +112,15 @@ void Solver<Real>::SplitNodesNearBlade(const SubstepContext& context) {
   for (int side = 0; side < 2; ++side) {
     grid.layer[side].assign(grid.split_nodes.size(), GridNode<Real>::Zero());
   }
+  MarkBlocksNearSplit(grid.split_nodes, grid.dims, &work.blocks);
 }
 
 template <typename Real>
-void Solver<Real>::LabelBladeSides(const SubstepContext& context) {
+void Solver<Real>::LabelBladeSides(const SubstepContext& context, std::size_t begin,
+                                   std::size_t end) {
   Particles<Real>& p = particles_;
-  const std::int64_t n = static_cast<std::int64_t>(p.size());
   if (!context.split_on) {
-    std::fill(p.blade_side.begin(), p.blade_side.end(), std::int8_t(0));
+    std::fill(p.blade_side.begin() + begin, p.blade_side.begin() + end, std::int8_t(0));
     return;
   }
   const double dx = context.dx_m;
@@ -63,8 +130,7 @@ void Solver<Real>::LabelBladeSides(const SubstepContext& context) {
   // the blade, so the next cut labels afresh. "Near": within a stencil's reach of a split node.
   const Eigen::AlignedBox3d label_region =
       knife_->BladeBounds(context.split_half_width_m + reach + dx);
-#pragma omp parallel for num_threads(config_.threads) schedule(static)
-  for (std::int64_t q = 0; q < n; ++q) {
+  for (std::size_t q = begin; q < end; ++q) {
     const Eigen::Vector3d x(p.position[0][q], p.position[1][q], p.position[2][q]);
     if (!label_region.contains(x)) {
       p.blade_side[q] = static_cast<std::int8_t>(BladeSide::kUnassigned);
@@ -87,9 +153,11 @@ void Solver<Real>::LabelBladeSides(const SubstepContext& context) {
   }
 }
 
+template void Solver<float>::FindSplitCandidates(const SubstepContext&);
+template void Solver<double>::FindSplitCandidates(const SubstepContext&);
 template void Solver<float>::SplitNodesNearBlade(const SubstepContext&);
 template void Solver<double>::SplitNodesNearBlade(const SubstepContext&);
-template void Solver<float>::LabelBladeSides(const SubstepContext&);
-template void Solver<double>::LabelBladeSides(const SubstepContext&);
+template void Solver<float>::LabelBladeSides(const SubstepContext&, std::size_t, std::size_t);
+template void Solver<double>::LabelBladeSides(const SubstepContext&, std::size_t, std::size_t);
 
 }  // namespace culinarycut::mpm

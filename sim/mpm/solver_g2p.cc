@@ -71,9 +71,9 @@ constexpr int kLanes = 8;  // particles updated together (SIMD lanes)
 
 }  // namespace
 
+// Team, the last stage: every thread calls it; each chunk's totals go to work.particle_chunks (Substep sums them).
 template <typename Real>
-ParticleTotals Solver<Real>::GridToParticles(const SubstepContext& context,
-                                             const ContactState& contact) {
+void Solver<Real>::GridToParticles(const SubstepContext& context, const ContactState& contact) {
   Particles<Real>& p = particles_;
   const Grid& grid = *grid_;
   Workspace& work = *workspace_;
@@ -275,9 +275,9 @@ ParticleTotals Solver<Real>::GridToParticles(const SubstepContext& context,
     }
   };
 
-  const std::size_t particle_chunks = ChunkCount(n);
-  work.particle_chunks.assign(particle_chunks, ParticleTotals{});
-#pragma omp parallel for num_threads(config_.threads) schedule(dynamic, 1)
+  const std::size_t particle_chunks = ChunkCount(n);  // work.particle_chunks: zeroed beforehand
+  // No barrier after it: the parallel region's end is one.
+#pragma omp for schedule(dynamic, 1) nowait
   for (std::int64_t c = 0; c < static_cast<std::int64_t>(particle_chunks); ++c) {
     ParticleTotals& totals = work.particle_chunks[c];
     const std::size_t end = std::min(n, (c + 1) * kChunk);
@@ -287,10 +287,9 @@ ParticleTotals Solver<Real>::GridToParticles(const SubstepContext& context,
     }
     for (; q0 < end; ++q0) update_batch(q0, std::integral_constant<int, 1>{}, totals);
   }
-  return SumChunks(work.particle_chunks);
 }
 
-template ParticleTotals Solver<float>::GridToParticles(const SubstepContext&, const ContactState&);
-template ParticleTotals Solver<double>::GridToParticles(const SubstepContext&, const ContactState&);
+template void Solver<float>::GridToParticles(const SubstepContext&, const ContactState&);
+template void Solver<double>::GridToParticles(const SubstepContext&, const ContactState&);
 
 }  // namespace culinarycut::mpm

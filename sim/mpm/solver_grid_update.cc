@@ -17,8 +17,10 @@ constexpr double kBladeContactOffsetCells = 0.5;
 
 }  // namespace
 
+// Team: every thread calls it and, after the barrier that ends the node loop, sums the chunks
+// into its own `contact` (the same bits on every thread: no single and no second barrier).
 template <typename Real>
-ContactState Solver<Real>::UpdateGrid(const SubstepContext& context) {
+void Solver<Real>::UpdateGrid(const SubstepContext& context, ContactState* contact_out) {
   Grid& grid = *grid_;
   Workspace& work = *workspace_;
   const Effects& effects = config_.effects;
@@ -117,11 +119,10 @@ ContactState Solver<Real>::UpdateGrid(const SubstepContext& context) {
     grid_node->template head<3>() = v.cast<Real>();  // now the velocity
   };
 
-  const std::size_t node_chunks = ChunkCount(nodes);
-  work.grid_chunks.assign(node_chunks, GridTotals{});
+  const std::size_t node_chunks = ChunkCount(nodes);  // work.grid_chunks: zeroed with the grid box
   const std::size_t stride_i = grid.stride_i();
   const std::size_t stride_j = grid.stride_j();
-#pragma omp parallel for num_threads(config_.threads) schedule(dynamic, 1)
+#pragma omp for schedule(dynamic, 1)
   for (std::int64_t c = 0; c < static_cast<std::int64_t>(node_chunks); ++c) {
     GridTotals& totals = work.grid_chunks[c];
     const std::size_t end = std::min(nodes, (c + 1) * kChunk);
@@ -141,7 +142,8 @@ ContactState Solver<Real>::UpdateGrid(const SubstepContext& context) {
       }
     }
   }
-  ContactState contact;
+  {
+  ContactState& contact = *contact_out;
   contact.totals = SumChunks(work.grid_chunks);
   const double c_norm = kContactStrengthScale * dx / dt_s;
   // The number of nodes along the edge grows as 1 / dx: scale the sum back to the reference grid.
@@ -154,10 +156,10 @@ ContactState Solver<Real>::UpdateGrid(const SubstepContext& context) {
   contact.damage_gate =
       knife_on && effects.damage && contact.c_hat >= cutting.c_hat_min && downward_stroke;
   contact.tip_on = knife_on && cutting.tip_acceleration_m_s2 > 0.0;
-  return contact;
+  }
 }
 
-template ContactState Solver<float>::UpdateGrid(const SubstepContext&);
-template ContactState Solver<double>::UpdateGrid(const SubstepContext&);
+template void Solver<float>::UpdateGrid(const SubstepContext&, ContactState*);
+template void Solver<double>::UpdateGrid(const SubstepContext&, ContactState*);
 
 }  // namespace culinarycut::mpm

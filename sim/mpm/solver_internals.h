@@ -3,8 +3,11 @@
 #pragma once
 
 #include <array>
+#include <atomic>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <exception>
 #include <vector>
 
 #include <Eigen/Core>
@@ -55,6 +58,34 @@ struct Solver<Real>::Workspace {
   std::vector<GridTotals> grid_chunks;
   std::vector<ParticleTotals> particle_chunks;
   std::uint64_t substeps_since_reorder = 0;
+  // Setup: bounds (low x y z, high x y z, finite) and momentum of each fixed particle chunk.
+  std::vector<std::array<Real, 7>> chunk_bounds;
+  std::vector<Eigen::Vector3d> momentum_of_chunk;
+  // Split-node candidates in global node indices (they depend on the knife only), lexicographic.
+  std::vector<Eigen::Vector3i> split_candidates;
+  Eigen::Vector3i candidate_low = Eigen::Vector3i::Zero();   // the global node box searched
+  Eigen::Vector3i candidate_high = -Eigen::Vector3i::Ones();  // (inclusive; empty: low > high)
+  bool reorder_now = false;                  // this substep stores the particles in block order
+  // P2G without colour barriers: a block waits only for the stress chunks holding its particles
+  // and for its lower-colour neighbours (flags hold the substep's stamp once done).
+  std::vector<std::uint32_t> scatter_list;   // the non-empty blocks, colour by colour
+  std::vector<std::uint32_t> block_done;     // per block: stamp once scattered
+  std::vector<std::uint32_t> chunk_done;     // per stress chunk: stamp once computed
+  std::atomic<std::int64_t> next_item{0};    // the next stress chunk or block to take
+  std::atomic<int> sorted_threads{0};        // threads whose share of the block order is written
+  std::uint32_t stamp = 0;
+};
+
+// What one substep's team shares beyond the workspace: results the stages hand on, the first
+// error (thrown after the parallel region), and the stage clock.
+struct SubstepShared {
+  std::exception_ptr error;
+  bool failed = false;
+  std::exception_ptr box_error;  // the grid box's, which every thread finds alike
+  Eigen::Vector3d momentum_before = Eigen::Vector3d::Zero();
+  double elastic_energy_j = 0.0;
+  double stage_ms[4] = {0.0, 0.0, 0.0, 0.0};  // setup, P2G, grid, G2P
+  std::chrono::steady_clock::time_point g2p_start;
 };
 
 // The numbers one substep derives from the config, the time step and the knife, once.

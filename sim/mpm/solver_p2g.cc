@@ -1,6 +1,14 @@
-// P2G, part 2: each particle's mass and APIC momentum to its 27 grid nodes, block colour by block
-// colour (blocks of one colour never share a node: no locks, and the same sums on any threads).
+// P2G, part 2: each particle's mass and APIC momentum to its 27 grid nodes, block by block in
+// colour order (blocks of one colour never share a node: no locks, and the same sums on any
+// threads). One queue hands out the stress chunks (part 1) and then the blocks, colour 0 first;
+// instead of a barrier after the stress and after each colour, a block waits only for what it
+// needs: the stress chunks holding its particles and its neighbours of lower colour. So every
+// node still sums its contributions colour by colour, in the same order on any thread count.
 #include <algorithm>
+#include <atomic>
+#include <thread>
+
+#include <omp.h>
 
 #include "sim/mpm/solver_internals.h"
 #include "sim/mpm/transfer_stencil.h"
@@ -39,6 +47,24 @@ inline void ScatterStencil(const StencilLanes<Real, W>& stencil, int l,
 
 constexpr int kLanes = 8;  // particles whose stencils are computed together (SIMD)
 
+// Waits until another thread has stored `stamp` in `flag` (release), then sees what it wrote.
+inline void WaitForStamp(const std::uint32_t* flag, std::uint32_t stamp) {
+  int spins = 0;
+  while (__atomic_load_n(flag, __ATOMIC_ACQUIRE) != stamp) {
+    if (++spins < 4096) {
+#if defined(__x86_64__) || defined(__i386__)
+      __builtin_ia32_pause();
+#endif
+    } else {
+      std::this_thread::yield();  // the thread we wait for may have been descheduled
+    }
+  }
+}
+
+inline void MarkDone(std::uint32_t* flag, std::uint32_t stamp) {
+  __atomic_store_n(flag, stamp, __ATOMIC_RELEASE);
+}
+
 }  // namespace
 
 template <typename Real>
@@ -61,11 +87,56 @@ void Solver<Real>::ScatterToGrid(const SubstepContext& context) {
   const Eigen::Vector3i origin = grid.origin;
   const Eigen::Vector3i dims = grid.dims;
 
-  for (int colour = 0; colour < 8; ++colour) {
-    const std::vector<std::uint32_t>& colour_blocks = blocks.of_colour[colour];
-#pragma omp parallel for num_threads(config_.threads) schedule(dynamic, 1)
-    for (std::int64_t b = 0; b < static_cast<std::int64_t>(colour_blocks.size()); ++b) {
-      const std::uint32_t block = colour_blocks[b];
+  Workspace& work = *workspace_;
+  const std::size_t chunks = ChunkCount(p.size());
+  const std::uint32_t* const by_colour = blocks.by_colour.data();
+  const std::int64_t items = static_cast<std::int64_t>(chunks + blocks.by_colour.size());
+  const std::uint32_t stamp = work.stamp;
+  std::uint32_t* const chunk_done = work.chunk_done.data();
+  std::uint32_t* const block_done = work.block_done.data();
+  const Eigen::Vector3i counts = blocks.counts;
+  // Waits for the stress chunks holding the block's particles (the sort is stable, so its first
+  // and last entries are its lowest and highest particle index) and for its lower-colour
+  // neighbours (the blocks whose nodes overlap its own).
+  auto wait_for_inputs = [&](std::uint32_t block) {
+    const std::uint32_t first_chunk = order[block_start[block]] / kChunk;
+    const std::uint32_t last_chunk = order[block_start[block + 1] - 1] / kChunk;
+    for (std::uint32_t c = first_chunk; c <= last_chunk; ++c) WaitForStamp(chunk_done + c, stamp);
+    const int bz = static_cast<int>(block % counts.z());
+    const int by = static_cast<int>((block / counts.z()) % counts.y());
+    const int bx = static_cast<int>(block / (static_cast<std::size_t>(counts.y()) * counts.z()));
+    const int colour = ParticleBlocks::Colour(bx, by, bz);
+    for (int nx = std::max(0, bx - 1); nx <= std::min(counts.x() - 1, bx + 1); ++nx) {
+      for (int ny = std::max(0, by - 1); ny <= std::min(counts.y() - 1, by + 1); ++ny) {
+        for (int nz = std::max(0, bz - 1); nz <= std::min(counts.z() - 1, bz + 1); ++nz) {
+          if (ParticleBlocks::Colour(nx, ny, nz) >= colour) continue;
+          const std::size_t neighbour = blocks.Index(nx, ny, nz);
+          if (block_start[neighbour] == block_start[neighbour + 1]) continue;  // empty: never runs
+          WaitForStamp(block_done + neighbour, stamp);
+        }
+      }
+    }
+  };
+
+  const int team = omp_get_num_threads();
+  bool sorted = false;  // the block order is complete (the sort ends without a barrier)
+  for (;;) {
+    const std::int64_t item = work.next_item.fetch_add(1, std::memory_order_relaxed);
+    if (item >= items) break;
+    if (item < static_cast<std::int64_t>(chunks)) {
+      work.elastic_energy_of_chunk[item] = ComputeAffineMomentum(context, item);
+      MarkDone(chunk_done + item, stamp);
+      continue;
+    }
+    if (!sorted) {
+      for (int spins = 0; work.sorted_threads.load(std::memory_order_acquire) < team; ++spins) {
+        if (spins > 4096) std::this_thread::yield();
+      }
+      sorted = true;
+    }
+    const std::uint32_t block = by_colour[item - chunks];
+    wait_for_inputs(block);
+    {
       // Only particles in blocks that reach a split node look up the per-side layers.
       const bool near_split = context.split_on && blocks.near_split[block];
       const std::uint32_t end = block_start[block + 1];
@@ -99,7 +170,9 @@ void Solver<Real>::ScatterToGrid(const SubstepContext& context) {
         }
       }
     }
+    MarkDone(block_done + block, stamp);
   }
+#pragma omp barrier
 }
 
 template void Solver<float>::ScatterToGrid(const SubstepContext&);

@@ -17,22 +17,18 @@ constexpr std::size_t kPrefetchAhead = 128;  // particles; prefetching past an a
 
 }  // namespace
 
+// One chunk of kChunk particles (P2G's scatter takes the chunks and then the blocks from one queue).
 template <typename Real>
-double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context) {
+double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context, std::size_t chunk) {
   Particles<Real>& p = particles_;
   Workspace& work = *workspace_;
   const Effects& effects = config_.effects;
   const std::size_t n = p.size();
-  const int threads = config_.threads;
   const double dt_s = context.dt_s;
   const Real dt = Real(dt_s);
   const Real dx = Real(context.dx_m);
   const Real inv_dx = Real(1.0 / context.dx_m);
   const Real stress_scale = -dt * Real(4) * inv_dx * inv_dx;
-  work.node_momentum.resize(n);
-  const std::size_t stress_chunks = ChunkCount(n);
-  std::vector<double>& elastic_energy_of_chunk = work.elastic_energy_of_chunk;
-  elastic_energy_of_chunk.assign(stress_chunks, 0.0);
   // What particles q .. q + W - 1 add to their nodes, from their affine momentum matrices in lanes.
   auto transfer_values = [&](std::size_t q, const auto& affine) {
     constexpr int kWidth = std::extent_v<std::remove_reference_t<decltype(affine)>, 1>;
@@ -85,9 +81,16 @@ double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context) {
     Real lambda;                // Pa
     Real yield_test_strain_sq;  // plastic flow is possible above ~0.7 of the yield strain
   };
-  std::vector<MaterialConstants> material_constants;
+  // A few materials at most: on the stack, no allocation per chunk.
+  constexpr std::size_t kStackMaterials = 8;
+  MaterialConstants stack_constants[kStackMaterials];
+  std::vector<MaterialConstants> heap_constants;
+  if (materials_.size() > kStackMaterials) heap_constants.resize(materials_.size());
+  MaterialConstants* const material_constants =
+      materials_.size() > kStackMaterials ? heap_constants.data() : stack_constants;
   bool any_plastic = false;
-  for (const Material& material : materials_) {
+  for (std::size_t m = 0; m < materials_.size(); ++m) {
+    const Material& material = materials_[m];
     // The same early-out as ReturnToYieldSurface (see YieldTestFraction).
     const double full_yield_strain =
         std::sqrt(2.0 / 3.0) * material.yield_stress_pa / (2.0 * material.shear_modulus_pa());
@@ -95,12 +98,12 @@ double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context) {
                                     ? YieldTestFraction(full_yield_strain) * full_yield_strain
                                     : 1e15;
     any_plastic = any_plastic || yield_strain < 1e15;
-    material_constants.push_back({Real(material.shear_modulus_pa()), Real(material.lame_lambda_pa()),
-                                  Real(yield_strain * yield_strain)});
+    material_constants[m] = {Real(material.shear_modulus_pa()), Real(material.lame_lambda_pa()),
+                             Real(yield_strain * yield_strain)};
   }
   constexpr int kLanes = 8;  // particles whose polar rotations are computed together (SIMD)
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
-  for (std::int64_t c = 0; c < static_cast<std::int64_t>(stress_chunks); ++c) {
+  {
+    const std::size_t c = chunk;
     double chunk_energy = 0.0;
     const std::size_t end_q = std::min(n, (c + 1) * kChunk);
     std::size_t q = c * kChunk;
@@ -153,14 +156,11 @@ double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context) {
       for (int k = 0; k < 9; ++k) F(k / 3, k % 3) = p.F[k][q];
       chunk_energy += particle_stress(q, PolarRotation(F));
     }
-    elastic_energy_of_chunk[c] = chunk_energy;
+    return chunk_energy;
   }
-  double elastic_energy_j = 0.0;
-  for (const double energy : elastic_energy_of_chunk) elastic_energy_j += energy;
-  return elastic_energy_j;
 }
 
-template double Solver<float>::ComputeAffineMomentum(const SubstepContext&);
-template double Solver<double>::ComputeAffineMomentum(const SubstepContext&);
+template double Solver<float>::ComputeAffineMomentum(const SubstepContext&, std::size_t);
+template double Solver<double>::ComputeAffineMomentum(const SubstepContext&, std::size_t);
 
 }  // namespace culinarycut::mpm
