@@ -142,10 +142,10 @@ FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout)
     box.extent_m = shape->LocalBounds().sizes();
     food_model.objects.push_back(box);
   }
-  // A second thread pays off only with enough particles to split: below that the OpenMP barriers of
-  // a substep cost more than they save (10k particles: 5.8 M particle-steps/s on 1 thread, 5.3 M on
-  // 2, docs/benchmarks/mpm_throughput.md), and on a busy machine far more (the draft example cut:
-  // 4.7 s of MPM on 1 thread against 9.5-32 s on 2).
+  // A second thread pays off only with enough particles to split; below that the OpenMP barriers of
+  // a substep cost more than they save (idle machine: the 1.8k-particle draft cucumber spends 4.5 s
+  // in MPM on 1 thread and 5.4 s on 2; at 10k particles 2 threads are 1.5x faster than 1,
+  // docs/benchmarks/mpm_throughput.md).
   const std::size_t threads_by_size = food_model.initial_particles.size() / kParticlesPerMpmThread;
   solver.threads = static_cast<int>(std::clamp<std::size_t>(
       threads_by_size, 1, std::max(1u, std::min(2u, std::thread::hardware_concurrency()))));

@@ -38,7 +38,7 @@ struct FoodModel {
 
 // Largest food a session may hold; more needs a coarser quality or a smaller scale.
 inline constexpr std::size_t kMaxFoodParticles = 2'000'000;
-inline constexpr std::size_t kParticlesPerMpmThread = 30'000;  // fewer per thread: one thread is faster
+inline constexpr std::size_t kParticlesPerMpmThread = 5'000;  // fewer per thread: one thread is faster
 
 // Builds the food model. Throws SceneError naming the field at fault (unknown food or material,
 // bad override, an object off the board, too many particles, an effect without effects.mpm).
