@@ -1,0 +1,146 @@
+#!/usr/bin/python3
+"""Wall time of the end-to-end example cut (examples/cut_cucumber.py: the oracle cuts a cucumber at
+0.3 from the left through the server, three 224 x 224 RGB cameras) at each quality preset, per
+episode and per simulated second, split by stage: robot (control + physics), MPM (substeps +
+topology), rendering, and RPC + client (everything the server's stages do not account for:
+transport, serialisation, image decoding, the oracle's calls). Writes
+docs/benchmarks/cut_episode.md, .json and docs/images/cut_episode_stages.png.
+
+    /usr/bin/python3 bench/cut_episode_report.py [--presets draft standard fine] [--max-wall-s 900]
+
+An episode that runs past --max-wall-s is stopped; its row then covers the simulated time reached
+and is marked partial (its cut-phase rate still says what a simulated second of cutting costs).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "examples"))
+sys.path.insert(0, str(ROOT / "client" / "python"))
+sys.path.insert(0, str(ROOT / "bench"))
+
+from cut_cucumber import cucumber_scene, run_episode  # noqa: E402
+from culinarycut import Client  # noqa: E402
+from culinarycut.launch import ServerProcess  # noqa: E402
+from step_latency import machine_info  # noqa: E402
+
+INSTRUCTION = "cut the cucumber at 0.3 ratio from the left"
+STAGES = ("robot", "mpm", "render", "rpc_client")
+
+
+def stage_split(trace: dict) -> dict:
+    server = trace["stage_wall_s"]
+    split = {"robot": server.get("control", 0.0) + server.get("physics", 0.0),
+             "mpm": server.get("mpm", 0.0) + server.get("topology", 0.0),
+             "render": server.get("render", 0.0)}
+    split["rpc_client"] = max(0.0, trace["client_wall_s"] - sum(split.values()))
+    return split
+
+
+def measure(client: Client, preset: str, max_wall_s: float) -> dict:
+    scene = cucumber_scene(INSTRUCTION, preset, 224, 224, real_material=False)
+    print(f"{preset}: running the episode (stops after {max_wall_s:.0f} s of wall time)...", flush=True)
+
+    def progress(step, observation, info):
+        if step % 20 == 0:
+            print(f"  {preset} step {step} t={info['sim_time']:.2f} s", flush=True)
+
+    trace = run_episode(client, scene, on_step=progress, max_wall_s=max_wall_s)
+    sim_s = trace["time_s"][-1] if trace["time_s"] else 0.0
+    contact = trace["first_contact_step"]
+    end = trace["terminated_step"] or trace["steps"]
+    cut_wall_s = float(np.sum(trace["step_wall_s"][contact - 1:end])) if contact else 0.0
+    cut_sim_s = (end - contact + 1) * 0.05 if contact else 0.0  # 20 Hz control
+    row = {"preset": preset, "complete": trace["complete"], "success": trace["success"], "steps": trace["steps"],
+           "sim_s": sim_s, "wall_s": trace["client_wall_s"], "stages_s": stage_split(trace),
+           "particles": trace["mpm_particles"], "mpm_substeps": trace["mpm_substeps"],
+           "resolution": trace["resolution"], "cut_wall_s": cut_wall_s, "cut_sim_s": cut_sim_s,
+           "error": trace["score"].get("required", [{}])[0].get("position_error_fraction")}
+    row["wall_per_sim_s"] = row["wall_s"] / sim_s if sim_s else float("nan")
+    row["cut_wall_per_sim_s"] = cut_wall_s / cut_sim_s if cut_sim_s else float("nan")
+    print(f"  {preset}: {row['wall_s']:.1f} s wall for {sim_s:.2f} s simulated, {row['particles']} particles, "
+          f"stages {({k: round(v, 1) for k, v in row['stages_s'].items()})}", flush=True)
+    return row
+
+
+def plot(rows: list[dict], path: Path) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 3.2), dpi=120)
+    width = 0.8 / len(STAGES)
+    for k, (stage, colour) in enumerate(zip(STAGES, ("tab:blue", "tab:orange", "tab:green", "tab:gray"))):
+        values = [row["stages_s"][stage] / row["sim_s"] for row in rows]
+        ax.bar(np.arange(len(rows)) + (k - 1.5) * width, values, width, label=stage.replace("_", " + "), color=colour)
+    ax.set_xticks(np.arange(len(rows)), [r["preset"] + ("" if r["complete"] else " (partial)") for r in rows])
+    ax.set_yscale("log")
+    ax.set_ylabel("wall s per simulated s")
+    ax.set_title("example cut: wall time per simulated second of the episode, by stage")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--presets", nargs="+", default=["draft", "standard", "fine"])
+    parser.add_argument("--max-wall-s", type=float, default=900.0, help="per episode")
+    args = parser.parse_args()
+    rows = []
+    server = ServerProcess(max_sessions=2, idle_timeout_s=3600)
+    try:
+        with Client(server.address, timeout_s=3600) as client:
+            for preset in args.presets:
+                rows.append(measure(client, preset, args.max_wall_s))
+    finally:
+        server.stop()
+
+    lines = [
+        "# End-to-end cut: wall time per preset",
+        "",
+        "Generated by `bench/cut_episode_report.py`: `examples/cut_cucumber.py`'s episode (the scripted",
+        f"oracle: \"{INSTRUCTION}\", softened cucumber E = 0.2 MPa, three 224 x 224 RGB cameras",
+        "rendered every step, 20 Hz control, 500 Hz robot physics) through a local server over TCP.",
+        "",
+        "Machine: {cpu_model}, {cores} cores, {platform}; llvmpipe rendering; ".format(**machine_info())
+        + time.strftime("%Y-%m-%d") + ".",
+        "",
+        "Stages: robot = control + physics; MPM = substeps + piece detection; render = the three cameras;",
+        "RPC + client = the rest of the client's wall time (transport, serialisation, decoding, the oracle's calls).",
+        "",
+        "| preset | dx (mm) | ppc | particles | MPM substeps | simulated s | wall s / episode | wall s per simulated s | cut phase: wall s per simulated s | robot s | MPM s | render s | RPC + client s | outcome |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for row in rows:
+        stages = row["stages_s"]
+        episode = f"{row['wall_s']:.1f}"
+        if not row["complete"]:
+            episode = f"{row['wall_s']:.0f} (partial)"
+        outcome = ("success" if row["success"] else "failed") if row["complete"] else "stopped at the wall-time cap"
+        if row["error"] is not None and row["complete"]:
+            outcome += f", error {100 * row['error']:.1f} % of the length"
+        lines.append(
+            f"| {row['preset']} | {1000 * row['resolution']['dx_m']:.0f} | {row['resolution']['particles_per_cell']} | "
+            f"{row['particles']:,} | {row['mpm_substeps']:,} | {row['sim_s']:.2f} | {episode} | "
+            f"{row['wall_per_sim_s']:.2f} | {row['cut_wall_per_sim_s']:.2f} | {stages['robot']:.2f} | "
+            f"{stages['mpm']:.1f} | {stages['render']:.1f} | {stages['rpc_client']:.1f} | {outcome} |")
+    lines += ["", "![stages per preset](../images/cut_episode_stages.png)", ""]
+    out = ROOT / "docs" / "benchmarks"
+    (out / "cut_episode.md").write_text("\n".join(lines))
+    (out / "cut_episode.json").write_text(json.dumps(rows, indent=1))
+    plot(rows, ROOT / "docs" / "images" / "cut_episode_stages.png")
+    print("\n".join(lines))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
