@@ -57,7 +57,8 @@ def measure(client: Client, preset: str, max_wall_s: float) -> dict:
     contact = trace["first_contact_step"]
     end = trace["terminated_step"] or trace["steps"]
     cut_wall_s = float(np.sum(trace["step_wall_s"][contact - 1:end])) if contact else 0.0
-    cut_sim_s = (end - contact + 1) * 0.05 if contact else 0.0  # 20 Hz control
+    control_period_s = trace["time_s"][0] if trace["time_s"] else 0.0  # the first step's sim time
+    cut_sim_s = (end - contact + 1) * control_period_s if contact else 0.0
     row = {"preset": preset, "complete": trace["complete"], "success": trace["success"], "steps": trace["steps"],
            "sim_s": sim_s, "wall_s": trace["client_wall_s"], "stages_s": stage_split(trace),
            "particles": trace["mpm_particles"], "mpm_substeps": trace["mpm_substeps"],

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "server/task_wire_conversion.h"
 #include "sim/render/image_encoding.h"
 
 namespace culinarycut::server {
@@ -40,22 +41,12 @@ void AddImageSpec(v1::CreateSessionResponse* response, const std::string& name, 
 grpc::Status CameraFromWire(const v1::CameraSpec& wire, const std::string& field, CameraConfig* camera) {
   camera->name = wire.name();
   const v1::Pose& pose = wire.pose();
-  if (pose.position_size() != 0 || pose.quaternion_size() != 0) {
-    if (pose.position_size() != 3 || pose.quaternion_size() != 4) {
-      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                          field + ".pose needs position [x, y, z] (m) and quaternion [w, x, y, z], or neither "
-                                  "(a default camera's pose)");
+  if (pose.position_size() != 0 || pose.quaternion_size() != 0) {  // neither: a default camera's pose
+    try {
+      camera->pose = PoseFromWire(pose, field + ".pose");
+    } catch (const task::TaskError& error) {
+      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, error.what());
     }
-    const Eigen::Vector3d position(pose.position(0), pose.position(1), pose.position(2));
-    const Eigen::Quaterniond q(pose.quaternion(0), pose.quaternion(1), pose.quaternion(2), pose.quaternion(3));
-    if (!position.allFinite() || !q.coeffs().allFinite() || q.norm() < 1e-6) {
-      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                          field + ".pose must be finite with a non-zero quaternion");
-    }
-    Eigen::Isometry3d camera_pose = Eigen::Isometry3d::Identity();
-    camera_pose.linear() = q.normalized().toRotationMatrix();
-    camera_pose.translation() = position;
-    camera->pose = camera_pose;
   }
   camera->attached_link = wire.attached_link();
   camera->fov_y_deg = wire.fov_y_deg();
@@ -68,12 +59,7 @@ grpc::Status CameraFromWire(const v1::CameraSpec& wire, const std::string& field
 
 void CameraToWire(const CameraConfig& camera, v1::CameraSpec* wire) {
   wire->set_name(camera.name);
-  if (camera.pose) {
-    const Eigen::Vector3d& position = camera.pose->translation();
-    const Eigen::Quaterniond q(camera.pose->linear());
-    wire->mutable_pose()->mutable_position()->Assign(position.data(), position.data() + 3);
-    for (double c : {q.w(), q.x(), q.y(), q.z()}) wire->mutable_pose()->add_quaternion(c);
-  }
+  if (camera.pose) PoseToWire(*camera.pose, wire->mutable_pose());
   wire->set_attached_link(camera.attached_link);
   wire->set_fov_y_deg(camera.fov_y_deg);
   wire->set_width(static_cast<std::uint32_t>(camera.width));
@@ -96,7 +82,7 @@ void CameraImagesToWire(const Model& model, const render::RenderResult& images, 
       } else {
         AssignBytes(camera.rgb, out->mutable_rgb());
       }
-      out->set_rgb_encoding(encoding.empty() ? "raw" : encoding);
+      out->set_rgb_encoding(encoding);
     }
     AssignBytes(camera.depth_m, out->mutable_depth());
     AssignBytes(camera.segmentation, out->mutable_segmentation());

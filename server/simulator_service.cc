@@ -7,7 +7,6 @@
 #include "server/task_wire_conversion.h"
 #include "server/version.h"
 #include "server/wire_conversion.h"
-#include "sim/core/stage_timer.h"
 #include "sim/world/camera_observation.h"
 #include "sim/world/controller.h"
 #include "sim/world/snapshot.h"
@@ -27,9 +26,9 @@ grpc::Status SimulatorService::ObserveSession(Session& session, v1::FrameStamp* 
   FoodObservationToWire(session.state, observation);
   if (session.model->task) observation->set_instruction(session.model->task->instruction);
   if (session.model->cameras.empty()) return grpc::Status::OK;
-  const auto start = std::chrono::steady_clock::now();
+  double elapsed_ms = 0.0;
   try {
-    const render::RenderResult images = RenderCameras(renderer_->Get(), *session.model, &session.state);
+    const render::RenderResult images = RenderCameras(renderer_->Get(), *session.model, &session.state, &elapsed_ms);
     CameraImagesToWire(*session.model, images, observation);
   } catch (const render::RenderError& error) {
     spdlog::error("session {}: rendering failed: {}", session.id, error.what());
@@ -37,7 +36,7 @@ grpc::Status SimulatorService::ObserveSession(Session& session, v1::FrameStamp* 
                         std::string("rendering the cameras failed: ") + error.what() +
                             "; the simulation state is intact (Observe retries the images)");
   }
-  if (render_ms) *render_ms = MillisecondsSince(start);
+  if (render_ms) *render_ms = elapsed_ms;
   return grpc::Status::OK;
 }
 

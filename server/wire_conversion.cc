@@ -1,6 +1,7 @@
 #include "server/wire_conversion.h"
 
 #include "server/camera_wire_conversion.h"
+#include "server/task_wire_conversion.h"
 #include "sim/world/control_mode.h"
 
 namespace culinarycut::server {
@@ -158,12 +159,7 @@ void ResolvedFoodToWire(const FoodModel& food, v1::SceneSpec* wire) {
   wire->mutable_mpm()->set_particles_per_cell(static_cast<std::uint32_t>(food.resolution.particles_per_cell));
   wire->mutable_mpm()->set_cfl(food.resolution.cfl);
   for (int i = 0; i < wire->objects_size() && i < static_cast<int>(food.objects.size()); ++i) {
-    v1::Pose* pose = wire->mutable_objects(i)->mutable_pose();
-    pose->clear_position();
-    pose->clear_quaternion();
-    AssignVector(food.objects[i].pose.translation(), pose->mutable_position());
-    const Eigen::Quaterniond q(food.objects[i].pose.linear());
-    for (double c : {q.w(), q.x(), q.y(), q.z()}) pose->add_quaternion(c);
+    PoseToWire(food.objects[i].pose, wire->mutable_objects(i)->mutable_pose());
     if (food.materials[i].name != wire->objects(i).material() && wire->objects(i).material().empty()) {
       wire->mutable_objects(i)->set_material(food.materials[i].name);
     }

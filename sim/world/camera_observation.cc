@@ -31,10 +31,10 @@ render::RenderScene MakeRenderScene(const Model& model, const State& state) {
   return scene;
 }
 
-render::RenderResult RenderCameras(render::Renderer& renderer, const Model& model, State* state) {
+render::RenderResult RenderCameras(render::Renderer& renderer, const Model& model, State* state, double* elapsed_ms) {
+  *elapsed_ms = 0.0;
   if (model.cameras.empty()) return {};
-  double elapsed_ms = 0.0;
-  ScopedStageTimer timer(&state->timers, Stage::kRender, &elapsed_ms);
+  ScopedStageTimer timer(&state->timers, Stage::kRender, elapsed_ms);
   return renderer.Render(MakeRenderScene(model, *state), model.cameras);
 }
 

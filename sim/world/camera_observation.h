@@ -13,8 +13,8 @@ namespace culinarycut {
 // Precondition: state has been reset.
 render::RenderScene MakeRenderScene(const Model& model, const State& state);
 
-// Renders model.cameras (empty result when there are none) and adds the time to Stage::kRender.
-// Throws render::RenderError.
-render::RenderResult RenderCameras(render::Renderer& renderer, const Model& model, State* state);
+// Renders model.cameras (empty result when there are none), adds the time to Stage::kRender and
+// reports it in `elapsed_ms` (ms). Throws render::RenderError.
+render::RenderResult RenderCameras(render::Renderer& renderer, const Model& model, State* state, double* elapsed_ms);
 
 }  // namespace culinarycut

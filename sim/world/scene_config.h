@@ -54,10 +54,11 @@ struct TaskConfig {
   int split_pieces = 0;       // split only: 3, 4 or 5
   std::string target_object;  // a food of the scene; empty: the scene's only food
   std::string reference;      // none, left, right, top, along_length
-  bool empty() const {
-    return instruction.empty() && cut_style.empty() && cut_state.empty() && target_object.empty() &&
-           reference.empty() && ratio == 0.0 && split_pieces == 0;
+  bool has_spec_fields() const {
+    return !cut_style.empty() || !cut_state.empty() || ratio != 0.0 || split_pieces != 0 || !target_object.empty() ||
+           !reference.empty();
   }
+  bool empty() const { return instruction.empty() && !has_spec_fields(); }
 };
 
 // A camera. A default camera's name (front, left, right, wrist) without a pose takes its pose.

@@ -10,11 +10,6 @@
 namespace culinarycut {
 namespace {
 
-bool HasSpecFields(const TaskConfig& config) {
-  return !config.cut_style.empty() || !config.cut_state.empty() || config.ratio != 0.0 || config.split_pieces != 0 ||
-         !config.target_object.empty() || !config.reference.empty();
-}
-
 // The scene's only food type, for a task that names none.
 std::string OnlyFood(const FoodModel& food) {
   std::set<std::string> foods;
@@ -49,7 +44,7 @@ TaskModel CompileTask(const TaskConfig& config, const FoodModel& food, std::uint
   TaskModel model;
   try {
     if (!config.instruction.empty()) {
-      if (HasSpecFields(config)) {
+      if (config.has_spec_fields()) {
         throw SceneError("scene.task: give either instruction or the cut spec fields, not both");
       }
       model.spec = task::ParseInstruction(config.instruction);

@@ -85,13 +85,13 @@ def test_food_shows_in_segmentation_with_its_label(client):
 
 
 def test_images_are_deterministic_and_png_is_lossless(client):
-    scene = {"cameras": [{"name": "front", "width": 80, "height": 60},
-                         {"name": "front_png", "pose": None, "width": 80, "height": 60, "rgbEncoding": "png"}]}
-    # front_png takes front's pose explicitly: read it back from the resolved scene.
+    # front_png takes front's resolved pose explicitly, read back from a probe session.
     probe = client.create_session({"cameras": [{"name": "front", "width": 80, "height": 60}]})
     pose = probe.resolved_scene.cameras[0].pose
     client.close_session(probe.session_id)
-    scene["cameras"][1]["pose"] = {"position": list(pose.position), "quaternion": list(pose.quaternion)}
+    front_png = {"name": "front_png", "pose": {"position": list(pose.position), "quaternion": list(pose.quaternion)},
+                 "width": 80, "height": 60, "rgbEncoding": "png"}
+    scene = {"cameras": [{"name": "front", "width": 80, "height": 60}, front_png]}
     first_session, first = reset_observation(client, scene)
     second_session, second = reset_observation(client, scene)
     a, b = observation_to_dict(first.observation), observation_to_dict(second.observation)

@@ -5,7 +5,7 @@ from typing import Any
 
 import numpy as np
 
-from culinarycut.client import (Client, cameras_to_dict, food_to_dict, observation_to_dict,
+from culinarycut.client import (Client, food_to_dict, observation_to_dict,
                                 segmentation_labels_to_dict, stamp_to_dict, step_info_to_dict)
 from culinarycut.errors import InvalidArgument, NotFound
 from culinarycut.spaces import box_from_array_spec, dict_from_array_specs
@@ -30,7 +30,7 @@ class CulinaryCutEnv:
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode must be None or 'rgb_array', not {render_mode!r}")
         self.render_mode = render_mode
-        self._last_observation = None  # the proto of the last reply, for render()
+        self._last_sensor_data = None  # the last reply's decoded images, for render()
         self._owns_client = client is None
         self.client = client if client is not None else Client(address)
         self._session_id: str | None = None
@@ -53,8 +53,7 @@ class CulinaryCutEnv:
         self.action_space = box_from_array_spec(modes[control_mode].action)
         self.observation_space = dict_from_array_specs(handshake.observation_spec)
         self.control_timestep = float(handshake.control_timestep)  # s of sim time per step
-        self.camera_names = [c.name for c in handshake.resolved_scene.cameras if not c.channels or "rgb" in c.channels]
-        if render_mode == "rgb_array" and not self.camera_names:
+        if render_mode == "rgb_array" and not any("rgb" in c.channels for c in handshake.resolved_scene.cameras):
             self.close()
             raise ValueError("render_mode='rgb_array' needs a camera with an rgb channel in the scene, "
                              "e.g. scene={'cameras': [{'name': 'front'}]}")
@@ -115,18 +114,19 @@ class CulinaryCutEnv:
             self._seed_np_random(int(response.seed))
         info = stamp_to_dict(response.stamp)
         info["seed"] = int(response.seed)
-        self._add_observation_info(response.observation, info)
-        return observation_to_dict(response.observation), info
+        return self._observation(response.observation, info), info
 
-    def _add_observation_info(self, observation, info: dict[str, Any]) -> None:
-        """Variable-length parts of an observation go to info; keeps the proto for render()."""
-        self._last_observation = observation
+    def _observation(self, observation, info: dict[str, Any]) -> dict[str, Any]:
+        """The observation dict; its variable-length parts go to info, its images are kept for render()."""
+        result = observation_to_dict(observation)
+        self._last_sensor_data = result.get("sensor_data", {})
         if observation.HasField("food"):
             info["food"] = food_to_dict(observation)
         if observation.instruction:
             info["instruction"] = observation.instruction
         if len(observation.segmentation_labels):
             info["segmentation_labels"] = segmentation_labels_to_dict(observation)
+        return result
 
     def step(self, action):
         """Apply one action for control_timestep seconds; returns (obs, reward, terminated, truncated, info)."""
@@ -143,11 +143,11 @@ class CulinaryCutEnv:
             raise
         info = stamp_to_dict(response.stamp)
         info.update(step_info_to_dict(response.info))
-        self._add_observation_info(response.observation, info)
+        observation = self._observation(response.observation, info)
         if response.HasField("task_score"):  # a scene task: the success metrics, final at the episode's end
             info["success"] = bool(response.task_score.success)
             info["task"] = score_to_dict(response.task_score)
-        return (observation_to_dict(response.observation), float(response.reward),
+        return (observation, float(response.reward),
                 bool(response.terminated), bool(response.truncated), info)
 
     def render(self):
@@ -156,9 +156,9 @@ class CulinaryCutEnv:
         None when render_mode is None (as in gymnasium)."""
         if self.render_mode is None:
             return None
-        if self._last_observation is None:
+        if self._last_sensor_data is None:
             raise RuntimeError("render() before reset(): there is nothing to show yet")
-        images = [data["rgb"] for data in cameras_to_dict(self._last_observation)[0].values() if "rgb" in data]
+        images = [data["rgb"] for data in self._last_sensor_data.values() if "rgb" in data]
         height = max(image.shape[0] for image in images)
         padded = [np.pad(image, ((0, height - image.shape[0]), (0, 0), (0, 0))) for image in images]
         return np.concatenate(padded, axis=1)
