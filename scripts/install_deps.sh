@@ -2,6 +2,7 @@
 # Installs every Debian package CulinaryCut needs (Debian 12 bookworm). Idempotent, non-interactive.
 # Runs apt as root, or through sudo when not root.
 set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
 PACKAGES=(
   build-essential cmake pkg-config git
@@ -15,8 +16,8 @@ PACKAGES=(
   libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri libopencv-dev libassimp-dev
   # tests and benchmarks
   catch2 libbenchmark-dev
-  # Python client (Debian's packages: there is no PyPI)
-  python3 python3-grpcio python3-grpc-tools python3-protobuf python3-numpy python3-zmq python3-pytest python3-opencv
+  # Python client: Debian's packages, plus a project virtualenv for what Debian lacks (requirements/pypi.txt)
+  python3 python3-venv python3-grpcio python3-grpc-tools python3-protobuf python3-numpy python3-zmq python3-pytest python3-opencv
   # plots in benchmarks, docs and examples
   python3-matplotlib
 )
@@ -24,15 +25,31 @@ PACKAGES=(
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 
+install_python_env() {
+  # The project virtualenv: Debian's Python packages stay visible (--system-site-packages); PyPI adds
+  # only the pinned packages Debian lacks or has too old. Reinstalls only when the pins change.
+  local venv="$root/.venv"
+  local pins="$root/requirements/pypi.txt"
+  if [ ! -x "$venv/bin/python" ]; then
+    /usr/bin/python3 -m venv --system-site-packages "$venv"
+  fi
+  if ! cmp -s "$pins" "$venv/.installed-pins"; then
+    echo "install_deps: installing the pinned PyPI packages into $venv"
+    "$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r "$pins"
+    cp "$pins" "$venv/.installed-pins"
+  fi
+}
+
 missing=()
 for package in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
 done
 if [ ${#missing[@]} -eq 0 ]; then
-  echo "install_deps: all ${#PACKAGES[@]} packages already installed"
-  exit 0
+  echo "install_deps: all ${#PACKAGES[@]} Debian packages already installed"
+else
+  echo "install_deps: installing ${missing[*]}"
+  $SUDO apt-get update -qq
+  # `env` carries the variable through sudo, whose env_reset would drop it.
+  $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
-echo "install_deps: installing ${missing[*]}"
-$SUDO apt-get update -qq
-# `env` carries the variable through sudo, whose env_reset would drop it.
-$SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
+install_python_env
