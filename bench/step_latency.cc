@@ -8,12 +8,13 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "culinarycut/client.h"
 #include "server/simulation_server.h"
-#include "sim/world/step.h"
+#include "bench/engine_step_rate.h"
 
 namespace {
 
@@ -48,26 +49,13 @@ int main(int argc, char** argv) {
   const std::vector<double> hold(7, 0.0);
 
   // 1. Engine only.
-  const auto robot = culinarycut::LoadRobotDescription(culinarycut::DefaultRobotUrdfPath(), culinarycut::kTcpFrame);
-  culinarycut::SceneConfig config;
-  config.robot.control_frequency_hz = control_hz;
-  std::shared_ptr<const culinarycut::Model> model;
+  culinarycut::bench::EngineStepRates engine;
   try {
-    model = culinarycut::CompileModel(config, robot);
-  } catch (const culinarycut::SceneError& error) {
+    engine = culinarycut::bench::MeasureEngineStepRates(steps, control_hz);
+  } catch (const std::invalid_argument& error) {
     std::fprintf(stderr, "bench_step_latency: %s\n", error.what());
     return 2;
   }
-  culinarycut::State state;
-  culinarycut::ResetState(*model, &state, 0, {});
-  const culinarycut::Action action{culinarycut::ControlMode::kJointDeltaPosition, Eigen::VectorXd::Zero(7)};
-  const culinarycut::Action ee_action{culinarycut::ControlMode::kEndEffectorDeltaPose, Eigen::VectorXd::Zero(6)};
-  auto start = Clock::now();
-  for (int i = 0; i < steps; ++i) culinarycut::Step(*model, &state, action);
-  const double engine_joint_s = std::chrono::duration<double>(Clock::now() - start).count();
-  start = Clock::now();
-  for (int i = 0; i < steps; ++i) culinarycut::Step(*model, &state, ee_action);
-  const double engine_ee_s = std::chrono::duration<double>(Clock::now() - start).count();
 
   // 2. Round trip through gRPC on loopback.
   culinarycut::server::ServerOptions options;
@@ -93,11 +81,11 @@ int main(int argc, char** argv) {
     observe_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
   }
 
-  const double engine_rate = steps / engine_joint_s;
-  const double engine_ee_rate = steps / engine_ee_s;
+  const double engine_rate = engine.joint_steps_per_s;
+  const double engine_ee_rate = engine.ee_steps_per_s;
   const double p50 = Percentile(round_trip_ms, 0.50), p90 = Percentile(round_trip_ms, 0.90),
                p99 = Percentile(round_trip_ms, 0.99);
-  std::printf("robot-only control steps (%d substeps each), %d samples\n", model->substeps_per_control_step, steps);
+  std::printf("robot-only control steps (%d substeps each), %d samples\n", engine.substeps_per_step, steps);
   std::printf("  engine, pd_joint_delta_pos : %8.0f steps/s  (%.3f ms/step)\n", engine_rate, 1e3 / engine_rate);
   std::printf("  engine, pd_ee_delta_pose   : %8.0f steps/s  (%.3f ms/step)\n", engine_ee_rate, 1e3 / engine_ee_rate);
   std::printf("  C++ client round trip      : p50 %.3f ms  p90 %.3f ms  p99 %.3f ms\n", p50, p90, p99);
@@ -106,7 +94,7 @@ int main(int argc, char** argv) {
   std::printf("  round trip / engine step   : %.2f\n", p50 / (1e3 / engine_rate));
   if (!json_path.empty()) {
     std::ofstream out(json_path);
-    out << "{\"steps\": " << steps << ", \"control_hz\": " << control_hz << ", \"substeps\": " << model->substeps_per_control_step
+    out << "{\"steps\": " << steps << ", \"control_hz\": " << control_hz << ", \"substeps\": " << engine.substeps_per_step
         << ", \"engine_joint_steps_per_s\": " << engine_rate << ", \"engine_ee_steps_per_s\": " << engine_ee_rate
         << ", \"cpp_round_trip_ms\": {\"p50\": " << p50 << ", \"p90\": " << p90 << ", \"p99\": " << p99 << "}, \"cpp_observe_round_trip_p50_ms\": " << observe_p50 << "}\n";
   }

@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "sim/core/stage_timer.h"
 #include "sim/policy/scripted_oracle.h"
 #include "sim/world/model.h"
 #include "sim/world/state.h"
@@ -30,6 +31,12 @@ struct Session {
   std::optional<ScriptedOracle> oracle;
   std::mutex mutex;  // held for the whole of any call into this session
   std::chrono::steady_clock::time_point last_used;
+  // Why the last Step failed half-way (an engine exception); empty while the state is consistent.
+  // Reset and RestoreSnapshot clear it; Step, Observe and SaveSnapshot refuse until then.
+  std::string broken_reason;
+  StageTotals timers;  // wall time per stage over the session's life (GetSessionStats)
+
+  bool broken() const { return !broken_reason.empty(); }
 };
 
 class SessionManager {

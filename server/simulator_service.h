@@ -10,7 +10,6 @@
 #include "server/shared_renderer.h"
 #include "server/telemetry_publisher.h"
 #include "sim/robot/robot_description.h"
-#include "sim/world/observation.h"
 
 namespace culinarycut::server {
 
@@ -31,12 +30,10 @@ class SimulatorService final : public v1::Simulator::Service {
   grpc::Status GetSessionStats(grpc::ServerContext*, const v1::GetSessionStatsRequest*, v1::SessionStats*) override;
 
  private:
-  void PublishTelemetry(const Session& session, const RobotObservation& observation);
-  // The stamp and observation of the session's current state (proprioception, wrench, food, camera
-  // images) and its robot part for telemetry. Fails (INTERNAL) only when the renderer fails
-  // mid-episode; `render_ms` gets the time spent rendering.
-  grpc::Status ObserveSession(Session& session, v1::FrameStamp* stamp, v1::Observation* observation,
-                              RobotObservation* robot_observation, double* render_ms = nullptr);
+  // Observes the session's current state (engine Observe, cameras rendered), writes the stamp and
+  // the observation, publishes telemetry and adds the render time to the session's timers.
+  // Throws render::RenderError when the renderer fails mid-episode; returns the render time (ms).
+  double ObserveToWire(Session& session, v1::FrameStamp* stamp, v1::Observation* observation);
 
   const RobotDescription robot_;
   SessionManager* sessions_;

@@ -4,9 +4,11 @@
 
 #include <spdlog/spdlog.h>
 
-#include "server/service_status.h"
-#include "server/task_wire_conversion.h"
-#include "server/wire_conversion.h"
+#include "server/status.h"
+#include "server/wire/action.h"
+#include "server/wire/observation.h"
+#include "server/wire/task.h"
+#include "server/wire/values.h"
 #include "sim/core/pose.h"
 #include "sim/robot/kinematics.h"
 #include "sim/task/instruction_generator.h"
@@ -20,28 +22,26 @@ constexpr std::uint32_t kMaxInstructionCount = 10000;
 constexpr double kDefaultPlanSampleRateHz = 20.0;
 constexpr double kMaxPlanSampleRateHz = 1000.0;
 
-// Runs `body`, turning the task module's input errors into INVALID_ARGUMENT.
+// Runs `body`, turning every exception into its status (status.h).
 template <typename Body>
 grpc::Status RunTask(Body&& body) {
-  try {
+  return Guarded([&] {
     body();
-  } catch (const task::TaskError& error) {
-    return InvalidArgument(error.what());
-  }
-  return grpc::Status::OK;
+    return grpc::Status::OK;
+  });
 }
 
 task::LanguageSplit LanguageSplitFromName(const std::string& name) {
   if (name.empty() || name == "train") return task::LanguageSplit::kTrain;
   if (name == "held_out") return task::LanguageSplit::kHeldOut;
   if (name == "all") return task::LanguageSplit::kAll;
-  throw task::TaskError("split '" + name + "' is unknown; use train, held_out or all");
+  throw FieldError("split", "'" + name.substr(0, 64) + "' is unknown; use train, held_out or all");
 }
 
 double SampleRateFromWire(double rate_hz, double default_hz) {
   if (rate_hz == 0.0) return default_hz;
   if (!(rate_hz > 0.0 && rate_hz <= kMaxPlanSampleRateHz)) {
-    throw task::TaskError("sample_rate_hz must be in (0, 1000] Hz (0 means the default)");
+    throw FieldError("sample_rate_hz", "must be in (0, 1000] Hz (0 means the default)");
   }
   return rate_hz;
 }
@@ -53,7 +53,7 @@ task::CutSpec SpecFromRequest(const Request& request) {
     case Request::kInstruction:
       return task::ParseInstruction(request.instruction());
     case Request::kSpec:
-      return CutSpecFromWire(request.spec());
+      return CutSpecFromWire(request.spec(), "spec");
     default:
       throw task::TaskError(std::is_same_v<Request, v1::StartOracleRequest>
                                 ? "give instruction (text) or spec (a CutSpec), or declare scene.task in the session's scene"
@@ -82,10 +82,9 @@ grpc::Status TaskService::GenerateInstructions(grpc::ServerContext*,
   return RunTask([&] {
     const std::uint32_t count = request->count() == 0 ? kDefaultInstructionCount : request->count();
     if (count > kMaxInstructionCount) {
-      throw task::TaskError("count " + std::to_string(count) + " is above the limit of " +
-                            std::to_string(kMaxInstructionCount));
+      throw FieldError("count", std::to_string(count) + " is above the limit of " + std::to_string(kMaxInstructionCount));
     }
-    const task::CutSpec spec = CutSpecFromWire(request->spec());
+    const task::CutSpec spec = CutSpecFromWire(request->spec(), "spec");
     for (const std::string& instruction :
          task::GenerateInstructions(spec, request->seed(), static_cast<int>(count),
                                     LanguageSplitFromName(request->split()))) {
@@ -98,15 +97,15 @@ grpc::Status TaskService::PlanCut(grpc::ServerContext*, const v1::PlanCutRequest
                                   v1::PlanCutResponse* response) {
   return RunTask([&] {
     const task::CutSpec spec = SpecFromRequest(*request);
-    if (!request->has_target()) throw task::TaskError("target is missing: give the object's box");
+    if (!request->has_target()) throw FieldError("target", "is missing: give the object's box");
     const task::ObjectBox target = ObjectBoxFromWire(request->target(), "target");
     if (!request->has_start_tcp_pose()) {
-      throw task::TaskError("start_tcp_pose is missing: give the knife's current TCP pose");
+      throw FieldError("start_tcp_pose", "is missing: give the knife's current TCP pose");
     }
     const Eigen::Isometry3d start = PoseFromWire(request->start_tcp_pose(), "start_tcp_pose");
     const double rate_hz = SampleRateFromWire(request->sample_rate_hz(), kDefaultPlanSampleRateHz);
     const task::CutTrajectory trajectory = task::PlanCutTrajectory(
-        target, spec, start, PlannerOptionsFromWire(request->options()), request->seed());
+        target, spec, start, PlannerOptionsFromWire(request->options(), "options"), request->seed());
     CutPlanToWire(trajectory, target.name, rate_hz, response->mutable_plan());
   });
 }
@@ -114,14 +113,14 @@ grpc::Status TaskService::PlanCut(grpc::ServerContext*, const v1::PlanCutRequest
 grpc::Status TaskService::ScoreCuts(grpc::ServerContext*, const v1::ScoreCutsRequest* request,
                                     v1::ScoreCutsResponse* response) {
   return RunTask([&] {
-    const task::CutSpec spec = CutSpecFromWire(request->spec());
-    if (!request->has_target()) throw task::TaskError("target is missing: give the object's box");
+    const task::CutSpec spec = CutSpecFromWire(request->spec(), "spec");
+    if (!request->has_target()) throw FieldError("target", "is missing: give the object's box");
     const task::ObjectBox target = ObjectBoxFromWire(request->target(), "target");
     std::vector<task::MeasuredCut> cuts;
     for (int i = 0; i < request->cuts_size(); ++i) {
       cuts.push_back(MeasuredCutFromWire(request->cuts(i), "cuts[" + std::to_string(i) + "]"));
     }
-    TaskScoreToWire(task::ScoreCuts(target, spec, cuts, TolerancesFromWire(request->tolerances())),
+    TaskScoreToWire(task::ScoreCuts(target, spec, cuts, TolerancesFromWire(request->tolerances(), "tolerances")),
                     response->mutable_score());
   });
 }
@@ -153,15 +152,9 @@ grpc::Status TaskService::StartOracle(grpc::ServerContext*, const v1::StartOracl
       config.target_name = model.food->objects[static_cast<std::size_t>(model.task->target_object)].name;
     }
     if (!request->control_mode().empty()) {
-      const std::optional<ControlMode> mode = ParseControlMode(request->control_mode());
-      if (!mode) {
-        throw task::TaskError("control_mode '" + request->control_mode() +
-                              "' is unknown; use pd_joint_pos, pd_joint_delta_pos, pd_ee_pose or "
-                              "pd_ee_delta_pose");
-      }
-      config.control_mode = *mode;
+      config.control_mode = ControlModeFromWire(request->control_mode(), "control_mode");
     }
-    config.planner = PlannerOptionsFromWire(request->options());
+    config.planner = PlannerOptionsFromWire(request->options(), "options");
     config.seed = request->has_seed() ? request->seed().value() : session->state.seed;
     const double rate_hz =
         SampleRateFromWire(request->sample_rate_hz(), 1.0 / model.control_timestep_s);

@@ -21,15 +21,12 @@ class ByteWriter {
     Put(static_cast<std::uint32_t>(v.size()));
     bytes_.append(reinterpret_cast<const char*>(v.data()), sizeof(double) * v.size());
   }
-  void PutString(const std::string& s) {
-    Put(static_cast<std::uint32_t>(s.size()));
-    bytes_.append(s);
-  }
   template <typename T>
   void PutArray(const std::vector<T>& values) {
     Put(static_cast<std::uint64_t>(values.size()));
     bytes_.append(reinterpret_cast<const char*>(values.data()), sizeof(T) * values.size());
   }
+  std::size_t size() const { return bytes_.size(); }
   std::string Take() { return std::move(bytes_); }
 
  private:
@@ -47,26 +44,20 @@ class ByteReader {
     offset_ += sizeof(T);
     return value;
   }
-  Eigen::VectorXd GetVector(std::uint32_t expected_size) {
+  // `name` names the field in the error.
+  Eigen::VectorXd GetVector(std::uint32_t expected_size, const std::string& name) {
     const auto size = Get<std::uint32_t>();
-    if (size != expected_size) throw SnapshotError("corrupt: a joint vector has the wrong length");
+    if (size != expected_size) throw SnapshotError("corrupt: " + name + " has the wrong length");
     Eigen::VectorXd v(size);
     Need(sizeof(double) * size);
     std::memcpy(v.data(), bytes_.data() + offset_, sizeof(double) * size);
     offset_ += sizeof(double) * size;
     return v;
   }
-  std::string GetString() {
-    const auto size = Get<std::uint32_t>();
-    Need(size);
-    std::string s = bytes_.substr(offset_, size);
-    offset_ += size;
-    return s;
-  }
-  // A vector of exactly `expected_size` plain values.
+  // A vector of exactly `expected_size` plain values; `name` names the field in the error.
   template <typename T>
-  std::vector<T> GetArray(std::uint64_t expected_size) {
-    if (Get<std::uint64_t>() != expected_size) throw SnapshotError("corrupt: an array has the wrong length");
+  std::vector<T> GetArray(std::uint64_t expected_size, const std::string& name) {
+    if (Get<std::uint64_t>() != expected_size) throw SnapshotError("corrupt: " + name + " has the wrong length");
     Need(sizeof(T) * expected_size);
     std::vector<T> values(expected_size);
     std::memcpy(values.data(), bytes_.data() + offset_, sizeof(T) * expected_size);

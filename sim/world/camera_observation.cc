@@ -31,11 +31,4 @@ render::RenderScene MakeRenderScene(const Model& model, const State& state) {
   return scene;
 }
 
-render::RenderResult RenderCameras(render::Renderer& renderer, const Model& model, State* state, double* elapsed_ms) {
-  *elapsed_ms = 0.0;
-  if (model.cameras.empty()) return {};
-  ScopedStageTimer timer(&state->timers, Stage::kRender, elapsed_ms);
-  return renderer.Render(MakeRenderScene(model, *state), model.cameras);
-}
-
 }  // namespace culinarycut

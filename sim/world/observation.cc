@@ -1,13 +1,12 @@
 #include "sim/world/observation.h"
 
 #include "sim/robot/kinematics.h"
+#include "sim/world/camera_observation.h"
 
 namespace culinarycut {
 
-RobotObservation Observe(const Model& model, const State& state) {
+RobotObservation ObserveRobot(const Model& model, const State& state) {
   RobotObservation observation;
-  observation.frame_id = state.frame_id;
-  observation.sim_time_s = state.sim_time_s;
   observation.qpos_rad = state.physics->JointPositions();
   observation.qvel_rad_s = state.physics->JointVelocities();
   observation.qpos_target_rad = state.q_target_rad;
@@ -23,6 +22,30 @@ RobotObservation Observe(const Model& model, const State& state) {
     const Eigen::Matrix3d world_to_flange = flange.linear().transpose();
     observation.wrist_wrench << world_to_flange * wrench.force_n,
         world_to_flange * (wrench.torque_nm + tcp_from_flange_m.cross(wrench.force_n));
+  }
+  return observation;
+}
+
+Observation Observe(const Model& model, const State& state, render::Renderer* renderer) {
+  Observation observation;
+  observation.frame_id = state.frame_id;
+  observation.sim_time_s = state.sim_time_s;
+  observation.robot = ObserveRobot(model, state);
+  if (state.food) {
+    observation.food = FoodObservation{state.food->contact_last_step, state.food->substeps_last_step > 0,
+                                       state.food->pieces};
+  }
+  if (model.task) {
+    observation.instruction = model.task->instruction;
+    observation.task_score = EvaluateTask(*model.task, *model.food, *state.food);
+  }
+  if (renderer && !model.cameras.empty()) {
+    StageTimes times;
+    {
+      StageClock clock(&times, Stage::kRender);
+      observation.images = renderer->Render(MakeRenderScene(model, state), model.cameras);
+    }
+    observation.render_wall_time_ms = times[Stage::kRender];
   }
   return observation;
 }

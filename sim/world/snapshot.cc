@@ -1,24 +1,83 @@
 #include "sim/world/snapshot.h"
 
-#include "sim/world/byte_stream.h"
-#include "sim/world/food_snapshot.h"
-
+#include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
-#include <sstream>
+#include <utility>
+#include <vector>
+
+#include "sim/world/byte_stream.h"
+#include "sim/world/state_fields.h"
 
 namespace culinarycut {
 namespace {
 
-constexpr std::array<char, 8> kMagic = {'C', 'C', 'S', 'N', 'A', 'P', '0', '2'};
+constexpr std::array<char, 8> kMagic = {'C', 'C', 'S', 'N', 'A', 'P', '0', '3'};
+
+// Writes the fields in VisitState's order; optionally remembers where each field starts.
+class SnapshotWriter {
+ public:
+  static constexpr bool kReading = false;
+  explicit SnapshotWriter(std::vector<std::pair<std::size_t, std::string>>* field_offsets = nullptr)
+      : field_offsets_(field_offsets) {}
+
+  template <typename T>
+  void Scalar(const char* name, T& value) {
+    Mark(name);
+    writer_.Put(value);
+  }
+  void Vector(const char* name, Eigen::VectorXd& value, std::size_t) {
+    Mark(name);
+    writer_.PutVector(value);
+  }
+  template <typename T>
+  void Array(const char* name, std::vector<T>& values, std::size_t) {
+    Mark(name);
+    writer_.PutArray(values);
+  }
+  ByteWriter& bytes() { return writer_; }
+
+ private:
+  void Mark(const char* name) {
+    if (field_offsets_) field_offsets_->emplace_back(writer_.size(), name);
+  }
+  ByteWriter writer_;
+  std::vector<std::pair<std::size_t, std::string>>* field_offsets_;
+};
+
+// Reads the fields in VisitState's order, checking every length against the model.
+class SnapshotReader {
+ public:
+  static constexpr bool kReading = true;
+  explicit SnapshotReader(ByteReader* reader) : reader_(reader) {}
+
+  template <typename T>
+  void Scalar(const char*, T& value) {
+    if constexpr (std::is_same_v<T, bool>) {
+      value = reader_->Get<std::uint8_t>() != 0;  // any byte is a valid bool; a raw copy may not be
+    } else {
+      value = reader_->Get<T>();
+    }
+  }
+  void Vector(const char* name, Eigen::VectorXd& value, std::size_t size) {
+    value = reader_->GetVector(static_cast<std::uint32_t>(size), name);
+  }
+  template <typename T>
+  void Array(const char* name, std::vector<T>& values, std::size_t size) {
+    values = reader_->GetArray<T>(size, name);
+  }
+
+ private:
+  ByteReader* reader_;
+};
 
 // Refuses values no simulation could have produced, so a corrupted snapshot cannot poison a session.
-void CheckPlausible(const Model& model, double sim_time_s, const Eigen::VectorXd& q, const Eigen::VectorXd& qdot,
-                    const Eigen::VectorXd& q_target) {
+void CheckPlausible(const Model& model, const State& state) {
   // Contact can push a joint slightly past its limit; anything further is corruption.
   constexpr double kLimitToleranceRad = 0.1;
-  if (!std::isfinite(sim_time_s) || sim_time_s < 0) throw SnapshotError("corrupt: bad sim time");
+  if (!std::isfinite(state.sim_time_s) || state.sim_time_s < 0) throw SnapshotError("corrupt: bad sim time");
+  const Eigen::VectorXd q = state.physics->JointPositions();
+  const Eigen::VectorXd qdot = state.physics->JointVelocities();
   for (int i = 0; i < model.robot.dof(); ++i) {
     const JointLimits& limits = model.robot.limits[i];
     auto near_limits = [&limits](double angle_rad) {
@@ -26,32 +85,40 @@ void CheckPlausible(const Model& model, double sim_time_s, const Eigen::VectorXd
              angle_rad <= limits.upper_rad + kLimitToleranceRad;
     };
     const bool qdot_ok = std::isfinite(qdot[i]) && std::abs(qdot[i]) <= 10 * limits.max_velocity_rad_s;
-    if (!near_limits(q[i]) || !near_limits(q_target[i]) || !qdot_ok) {
+    if (!near_limits(q[i]) || !near_limits(state.q_target_rad[i]) || !qdot_ok) {
       throw SnapshotError("corrupt: joint " + std::to_string(i) + " holds a non-finite or impossible value");
     }
   }
+  if (!state.food) return;
+  const FoodState& food = *state.food;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (const float x : food.solver->particles().position[axis]) {
+      if (!std::isfinite(x)) throw SnapshotError("corrupt: a non-finite particle position");
+    }
+  }
+  if (!(food.knife_speed_factor > 0.0 && food.knife_speed_factor <= 1.0)) {
+    throw SnapshotError("corrupt: knife speed factor outside (0, 1]");
+  }
+  for (const Eigen::Vector3d* v : {&food.wrench.force_n, &food.wrench.torque_nm, &food.control_step_wrench.force_n,
+                                   &food.control_step_wrench.torque_nm}) {
+    if (!v->allFinite()) throw SnapshotError("corrupt: a non-finite food value");
+  }
+}
+
+std::string Serialize(const Model& model, const State& state,
+                      std::vector<std::pair<std::size_t, std::string>>* field_offsets = nullptr) {
+  SnapshotWriter writer(field_offsets);
+  writer.bytes().Put(kMagic);
+  writer.bytes().Put(model.fingerprint);
+  writer.bytes().Put(static_cast<std::uint8_t>(state.food != nullptr));
+  // The writer only reads the fields; VisitState takes one signature for both directions.
+  VisitState(writer, model, const_cast<State&>(state));
+  return writer.bytes().Take();
 }
 
 }  // namespace
 
-std::string SaveSnapshot(const Model& model, const State& state) {
-  ByteWriter writer;
-  writer.Put(kMagic);
-  writer.Put(model.fingerprint);
-  writer.Put(state.frame_id);
-  writer.Put(state.sim_time_s);
-  writer.Put(state.seed);
-  writer.Put(state.episode_steps);
-  std::ostringstream rng;
-  rng << state.rng;
-  writer.PutString(rng.str());
-  writer.PutVector(state.physics->JointPositions());
-  writer.PutVector(state.physics->JointVelocities());
-  writer.PutVector(state.q_target_rad);
-  writer.Put(static_cast<std::uint8_t>(state.food != nullptr));
-  if (state.food) WriteFoodState(*state.food, &writer);
-  return writer.Take();
-}
+std::string SaveSnapshot(const Model& model, const State& state) { return Serialize(model, state); }
 
 void RestoreSnapshot(const Model& model, const std::string& bytes, State* state) {
   ByteReader reader(bytes);
@@ -60,36 +127,39 @@ void RestoreSnapshot(const Model& model, const std::string& bytes, State* state)
     throw SnapshotError("taken in a session with a different scene, or corrupt; restore it into a session "
                         "created from the same SceneSpec");
   }
-  // Decode everything before touching the state, so a bad snapshot changes nothing.
-  const auto dof = static_cast<std::uint32_t>(model.robot.dof());
-  const auto frame_id = reader.Get<std::uint64_t>();
-  const auto sim_time = reader.Get<double>();
-  const auto seed = reader.Get<std::uint64_t>();
-  const auto episode_steps = reader.Get<std::uint32_t>();
-  std::istringstream rng_text(reader.GetString());
-  std::mt19937_64 rng;
-  rng_text >> rng;
-  if (rng_text.fail()) throw SnapshotError("corrupt: bad random-generator state");
-  const Eigen::VectorXd q = reader.GetVector(dof);
-  const Eigen::VectorXd qdot = reader.GetVector(dof);
-  const Eigen::VectorXd q_target = reader.GetVector(dof);
   const bool has_food = reader.Get<std::uint8_t>() != 0;
   if (has_food != model.food.has_value()) throw SnapshotError("corrupt: food state does not match the scene");
-  std::unique_ptr<FoodState> food = has_food ? ReadFoodState(*model.food, model.layout, &reader) : nullptr;
+  // Decode into a fresh state, so a bad snapshot changes nothing; a fresh world also means no
+  // contact or solver cache from this session's past survives the restore.
+  State restored;
+  restored.physics = std::make_unique<PhysicsWorld>(model.robot, model.layout, model.physics_timestep_s);
+  if (has_food) {
+    restored.food = std::make_unique<FoodState>();
+    ResetFood(*model.food, model.layout, restored.food.get());
+  }
+  SnapshotReader archive(&reader);
+  VisitState(archive, model, restored);
   if (!reader.AtEnd()) throw SnapshotError("corrupt: trailing bytes");
-  CheckPlausible(model, sim_time, q, qdot, q_target);
+  CheckPlausible(model, restored);
+  *state = std::move(restored);
+}
 
-  // A fresh world: no contact or solver cache from this session's past survives the restore.
-  auto physics = std::make_unique<PhysicsWorld>(model.robot, model.layout, model.physics_timestep_s);
-  physics->SetJointState(q, qdot);
-  state->physics = std::move(physics);
-  state->frame_id = frame_id;
-  state->sim_time_s = sim_time;
-  state->seed = seed;
-  state->episode_steps = episode_steps;
-  state->rng = rng;
-  state->q_target_rad = q_target;
-  state->food = std::move(food);
+void CopyState(const Model& model, const State& from, State* to) { RestoreSnapshot(model, SaveSnapshot(model, from), to); }
+
+std::optional<std::string> FirstStateDifference(const Model& model, const State& a, const State& b) {
+  std::vector<std::pair<std::size_t, std::string>> fields;
+  const std::string bytes_a = Serialize(model, a, &fields);
+  const std::string bytes_b = Serialize(model, b);
+  if (bytes_a == bytes_b) return std::nullopt;
+  const std::size_t common = std::min(bytes_a.size(), bytes_b.size());
+  std::size_t first = 0;
+  while (first < common && bytes_a[first] == bytes_b[first]) ++first;
+  std::string name = "snapshot header";
+  for (const auto& [offset, field] : fields) {
+    if (offset > first) break;
+    name = field;
+  }
+  return name;
 }
 
 }  // namespace culinarycut

@@ -1,7 +1,9 @@
 // A session's State as bytes, to branch and replay episodes. A snapshot restores only into a
 // session whose Model has the same fingerprint, and replays the following steps bit for bit.
+// The fields and their order come from state_fields.h.
 #pragma once
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -20,5 +22,12 @@ std::string SaveSnapshot(const Model& model, const State& state);
 
 // Throws SnapshotError (and leaves the state untouched) on corrupt or foreign bytes.
 void RestoreSnapshot(const Model& model, const std::string& bytes, State* state);
+
+// `to` becomes an independent copy of `from` (a reset state of the same model).
+void CopyState(const Model& model, const State& from, State* to);
+
+// The name of the first field in which two reset states of one model differ, or nothing when
+// they are equal bit for bit (what determinism tests compare).
+std::optional<std::string> FirstStateDifference(const Model& model, const State& a, const State& b);
 
 }  // namespace culinarycut

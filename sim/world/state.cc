@@ -14,7 +14,6 @@ void ResetState(const Model& model, State* state, std::uint64_t seed, const std:
   state->sim_time_s = 0.0;
   state->seed = seed;
   state->episode_steps = 0;
-  state->rng.seed(seed);
   state->q_target_rad = q;
   if (model.food) {
     if (!state->food) state->food = std::make_unique<FoodState>();

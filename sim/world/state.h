@@ -1,13 +1,13 @@
-// Everything that changes while a session runs (MuJoCo's mjData). Snapshot/restore is a copy of it.
+// Everything that changes while a session runs (MuJoCo's mjData), and nothing else: no copies of
+// Model data, no wall-clock timers (StepResult and Observation carry those). Its fields are listed
+// once, in state_fields.h, which drives snapshot, restore, copy and comparison.
 #pragma once
 
 #include <cstdint>
 #include <memory>
-#include <random>
 
 #include <Eigen/Core>
 
-#include "sim/core/stage_timer.h"
 #include "sim/world/food_state.h"
 #include "sim/world/model.h"
 #include "sim/world/physics_world.h"
@@ -18,11 +18,9 @@ struct State {
   std::unique_ptr<PhysicsWorld> physics;  // null until the first Reset
   std::uint64_t frame_id = 0;             // 0 after Reset, +1 per Step
   double sim_time_s = 0.0;
-  std::uint64_t seed = 0;
+  std::uint64_t seed = 0;                 // the episode's seed, as Reset was given it
   std::uint32_t episode_steps = 0;
-  std::mt19937_64 rng;                    // the only randomness; seeded by Reset
   Eigen::VectorXd q_target_rad;           // what the joint PD controller tracks
-  StageTimers timers;
   std::unique_ptr<FoodState> food;        // only when the model has food
 
   bool has_been_reset() const { return physics != nullptr; }

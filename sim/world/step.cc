@@ -1,7 +1,5 @@
 #include "sim/world/step.h"
 
-#include <chrono>
-
 #include "sim/robot/kinematics.h"
 #include "sim/world/food_step.h"
 
@@ -20,82 +18,105 @@ Eigen::VectorXd KnifeWrenchTorques(const Model& model, const Eigen::VectorXd& q_
   return TipJacobian(model.robot, q_rad, model.tcp_in_last_link).transpose() * wrench_in_base;
 }
 
+// Stage "apply action": the action becomes the joint targets the PD loop tracks.
+void ApplyAction(const Model& model, const Action& action, State* state, StepResult* result) {
+  JointTarget target = ComputeJointTarget(model, state->physics->JointPositions(), action);
+  state->q_target_rad = target.q_target_rad;
+  result->action_clipped = target.clipped;
+  result->ik = target.ik;
+}
+
+// Stage "robot", one physics step: the PD loop runs at the physics rate, a fresh velocity command
+// every substep on top of gravity compensation (as the Panda's own controller does), so the servo
+// only handles motion. With food, the food's wrench from the last physics step acts on the knife
+// and the speed resistance slows the servo while the knife is in the food (two-way coupling).
+void AdvanceRobot(const Model& model, State* state) {
+  const Eigen::Vector3d gravity_in_base = model.robot_base_in_world.linear().transpose() * model.layout.gravity_m_s2;
+  const Eigen::VectorXd q = state->physics->JointPositions();
+  state->physics->AddJointTorques(GravityTorques(model.robot, q, gravity_in_base));
+  Eigen::VectorXd qdot_command = JointVelocityCommand(model, q, state->q_target_rad);
+  if (const FoodState* food = state->food.get()) {
+    state->physics->AddJointTorques(KnifeWrenchTorques(model, q, food->wrench));
+    qdot_command *= food->knife_speed_factor;
+  }
+  state->physics->SetJointVelocityCommand(qdot_command);
+  state->physics->StepOnce();
+}
+
+// Stage "end of food step": contact bookkeeping over the control step, then piece detection.
+// Runs before the clock advances: the first contact is dated to the frame this step ends on.
+void EndFoodStep(const Model& model, const KnifeWrench& wrench_sum, State* state, StepResult* result) {
+  FoodState* food = state->food.get();
+  const double inverse_count = 1.0 / model.substeps_per_control_step;
+  food->contact_last_step = result->knife_contact;
+  food->substeps_last_step = result->mpm_substeps;
+  food->control_step_wrench = KnifeWrench{wrench_sum.force_n * inverse_count, wrench_sum.torque_nm * inverse_count};
+  if (result->knife_contact && !food->first_contact_frame) {
+    result->first_contact = true;
+    food->first_contact_frame = state->frame_id + 1;
+    food->first_contact_time_s = static_cast<double>(state->episode_steps + 1) * model.control_timestep_s;
+  }
+  if (model.food->topology_update && result->mpm_substeps > 0) {
+    StageClock clock(&result->timings, Stage::kTopology);
+    UpdatePieces(*model.food, food);
+  }
+}
+
+// Stage "task evaluation" (scenes with a task): ManiSkill's sparse reward, 1 while the task is done; success ends the
+// episode (terminated).
+void EvaluateStep(const Model& model, const State& state, StepResult* result) {
+  result->task_score = EvaluateTask(*model.task, *model.food, *state.food);
+  result->success = result->task_score->success;
+  result->reward = result->success ? 1.0 : 0.0;
+  result->terminated = result->success;
+}
+
+// Stage "clock": the frame count, and sim time as an integer count times the timestep so it never
+// drifts by summation; truncation at the episode's step limit.
+void AdvanceClock(const Model& model, State* state, StepResult* result) {
+  state->frame_id += 1;
+  state->episode_steps += 1;
+  state->sim_time_s = static_cast<double>(state->episode_steps) * model.control_timestep_s;
+  result->truncated = model.config.max_episode_steps > 0 && state->episode_steps >= model.config.max_episode_steps;
+}
+
 }  // namespace
 
-StepReport Step(const Model& model, State* state, const Action& action) {
+StepResult Step(const Model& model, State* state, const Action& action) {
   const auto start = std::chrono::steady_clock::now();
-  StepReport report;
+  StepResult result;
   {
-    ScopedStageTimer timer(&state->timers, Stage::kControl, &report.control_wall_time_ms);
-    JointTarget target = ComputeJointTarget(model, state->physics->JointPositions(), action);
-    state->q_target_rad = target.q_target_rad;
-    report.action_clipped = target.clipped;
-    report.ik = target.ik;
+    StageClock clock(&result.timings, Stage::kControl);
+    ApplyAction(model, action, state, &result);
   }
   FoodState* food = state->food.get();
   KnifeWrench wrench_sum;  // over the physics steps, for the control step's mean
-  // The PD loop runs at the physics rate: a fresh velocity command every substep, on top of
-  // gravity compensation (as the Panda's own controller does), so the servo only handles motion.
-  const Eigen::Vector3d gravity_in_base = model.robot_base_in_world.linear().transpose() * model.layout.gravity_m_s2;
   // The knife's pose at the start of each physics step is the pose at the end of the one before.
   Eigen::Isometry3d tcp_start = food ? TcpInWorld(model, state->physics->JointPositions()) : Eigen::Isometry3d::Identity();
   for (int i = 0; i < model.substeps_per_control_step; ++i) {
-    const Eigen::VectorXd q = state->physics->JointPositions();
     {
-      const auto robot_start = std::chrono::steady_clock::now();
-      state->physics->AddJointTorques(GravityTorques(model.robot, q, gravity_in_base));
-      Eigen::VectorXd qdot_command = JointVelocityCommand(model, q, state->q_target_rad);
-      if (food) {
-        // Two-way coupling: the food's wrench from the last physics step acts on the knife, and
-        // the speed resistance slows the servo while the knife is in the food.
-        state->physics->AddJointTorques(KnifeWrenchTorques(model, q, food->wrench));
-        qdot_command *= food->knife_speed_factor;
-      }
-      state->physics->SetJointVelocityCommand(qdot_command);
-      state->physics->StepOnce();
-      const double elapsed_ms = MillisecondsSince(robot_start);
-      report.physics_wall_time_ms += elapsed_ms;
-      state->timers.total_seconds[static_cast<int>(Stage::kPhysics)] += 1e-3 * elapsed_ms;
+      StageClock clock(&result.timings, Stage::kPhysics);
+      AdvanceRobot(model, state);
     }
-    if (food) {
-      const auto mpm_start = std::chrono::steady_clock::now();
-      const Eigen::Isometry3d tcp_end = TcpInWorld(model, state->physics->JointPositions());
-      const FoodStepReport food_report = AdvanceFood(*model.food, tcp_start, tcp_end, model.physics_timestep_s, food);
-      tcp_start = tcp_end;
-      report.mpm_substeps += food_report.substeps;
-      report.knife_contact = report.knife_contact || food_report.contact;
-      wrench_sum.force_n += food->wrench.force_n;
-      wrench_sum.torque_nm += food->wrench.torque_nm;
-      const double elapsed_ms = MillisecondsSince(mpm_start);
-      report.mpm_wall_time_ms += elapsed_ms;
-      state->timers.total_seconds[static_cast<int>(Stage::kMpm)] += 1e-3 * elapsed_ms;
-    }
+    if (!food) continue;
+    StageClock clock(&result.timings, Stage::kMpm);
+    const Eigen::Isometry3d tcp_end = TcpInWorld(model, state->physics->JointPositions());
+    const FoodStepReport food_report = AdvanceFood(*model.food, tcp_start, tcp_end, model.physics_timestep_s, food);
+    tcp_start = tcp_end;
+    result.mpm_substeps += food_report.substeps;
+    result.knife_contact = result.knife_contact || food_report.contact;
+    wrench_sum.force_n += food->wrench.force_n;
+    wrench_sum.torque_nm += food->wrench.torque_nm;
   }
-  state->timers.calls[static_cast<int>(Stage::kPhysics)] += 1;
-  report.substeps = model.substeps_per_control_step;
-  state->frame_id += 1;
-  state->episode_steps += 1;
-  if (food) {
-    state->timers.calls[static_cast<int>(Stage::kMpm)] += 1;
-    const double inverse_count = 1.0 / model.substeps_per_control_step;
-    food->contact_last_step = report.knife_contact;
-    food->substeps_last_step = report.mpm_substeps;
-    food->control_step_wrench = KnifeWrench{wrench_sum.force_n * inverse_count, wrench_sum.torque_nm * inverse_count};
-    if (report.knife_contact && !food->first_contact_frame) {
-      report.first_contact = true;
-      food->first_contact_frame = state->frame_id;
-      food->first_contact_time_s = static_cast<double>(state->episode_steps) * model.control_timestep_s;
-    }
-    if (model.food->topology_update && report.mpm_substeps > 0) {
-      ScopedStageTimer timer(&state->timers, Stage::kTopology, &report.topology_wall_time_ms);
-      UpdatePieces(*model.food, food);
-    }
+  result.substeps = model.substeps_per_control_step;
+  if (food) EndFoodStep(model, wrench_sum, state, &result);
+  if (model.task) {
+    StageClock clock(&result.timings, Stage::kTask);
+    EvaluateStep(model, *state, &result);
   }
-  // Integer frame count times the timestep, so sim time never drifts by summation.
-  state->sim_time_s = static_cast<double>(state->episode_steps) * model.control_timestep_s;
-  report.truncated = model.config.max_episode_steps > 0 && state->episode_steps >= model.config.max_episode_steps;
-  report.wall_time_ms = MillisecondsSince(start);
-  return report;
+  AdvanceClock(model, state, &result);
+  result.wall_time_ms = MillisecondsSince(start);
+  return result;
 }
 
 }  // namespace culinarycut

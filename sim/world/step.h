@@ -1,32 +1,42 @@
-// One control step as named, timed stages: robot control -> per physics step (robot physics ->
-// knife pose from the TCP -> MPM substeps -> wrench back on the robot) -> topology -> bookkeeping.
+// One control step (MuJoCo's mj_step), as a short chain of named, timed stages:
+//   apply action -> per physics step (robot -> food) -> end of food step -> task evaluation -> clock.
+// Reward, success and termination are the engine's, so a C++ user of sim/world gets them too.
 #pragma once
 
 #include <optional>
 
+#include "sim/core/stage_timer.h"
 #include "sim/robot/inverse_kinematics.h"
+#include "sim/task/success_metrics.h"
 #include "sim/world/controller.h"
 #include "sim/world/model.h"
 #include "sim/world/state.h"
 
 namespace culinarycut {
 
-struct StepReport {
+struct StepResult {
+  // ManiSkill's sparse reward: 1 while the scene's task is done, else 0 (always 0 without a task).
+  double reward = 0.0;
+  bool success = false;      // the scene's task is done now
+  bool terminated = false;   // the episode ended inside the task (success)
+  bool truncated = false;    // max_episode_steps reached
+  std::optional<task::TaskScore> task_score;  // only when the scene declares a task
+
   bool action_clipped = false;
   std::optional<IkResult> ik;     // end-effector modes only
-  bool truncated = false;         // max_episode_steps reached
   int substeps = 0;               // robot physics steps
   int mpm_substeps = 0;           // MPM substeps (0 while the food sleeps or without food)
   bool knife_contact = false;     // the knife touched the food during this step
   bool first_contact = false;     // ... for the first time this episode (the contact phase begins)
-  double wall_time_ms = 0.0;
-  double control_wall_time_ms = 0.0;   // action -> joint targets (IK included)
-  double physics_wall_time_ms = 0.0;   // the robot's physics substeps
-  double mpm_wall_time_ms = 0.0;       // the food's MPM substeps
-  double topology_wall_time_ms = 0.0;  // piece detection
+
+  // Wall time of each stage (ms); never part of the simulation, so never compared for determinism.
+  StageTimes timings;
+  double wall_time_ms = 0.0;      // the whole step
 };
 
 // Preconditions: state has been reset and ValidateAction(model, action) found nothing.
-StepReport Step(const Model& model, State* state, const Action& action);
+// Throws std::runtime_error when the food's MPM state runs away (NaN positions, a grid blown up);
+// the state is then half-stepped and must be reset or restored before it is stepped again.
+StepResult Step(const Model& model, State* state, const Action& action);
 
 }  // namespace culinarycut

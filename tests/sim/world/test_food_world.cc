@@ -44,7 +44,7 @@ CutTrace RunOracleCut(const Model& model, const std::string& instruction) {
   while (!oracle.Finished(state.sim_time_s)) {
     trace.phase.push_back(oracle.PhaseAt(state.sim_time_s));
     const Eigen::VectorXd action = oracle.Act(model, state.physics->JointPositions(), state.sim_time_s);
-    const StepReport report = Step(model, &state, Action{oracle.control_mode(), action});
+    const StepResult report = Step(model, &state, Action{oracle.control_mode(), action});
     trace.force_n.push_back(state.food->control_step_wrench.force_n.norm());
     trace.mpm_substeps.push_back(report.mpm_substeps);
   }
@@ -62,7 +62,7 @@ TEST_CASE("a robot-only scene builds no MPM", "[food_world]") {
   State state;
   ResetState(*model, &state, 0, {});
   CHECK(state.food == nullptr);
-  const StepReport report = Step(*model, &state, Action{ControlMode::kEndEffectorDeltaPose, Eigen::VectorXd::Zero(6)});
+  const StepResult report = Step(*model, &state, Action{ControlMode::kEndEffectorDeltaPose, Eigen::VectorXd::Zero(6)});
   CHECK(report.mpm_substeps == 0);
 }
 
@@ -97,7 +97,7 @@ TEST_CASE("the food sleeps until the knife comes near", "[food_world]") {
   State state;
   ResetState(*model, &state, 0, {});
   for (int i = 0; i < 3; ++i) {
-    const StepReport report = Step(*model, &state, Action{ControlMode::kEndEffectorDeltaPose, Eigen::VectorXd::Zero(6)});
+    const StepResult report = Step(*model, &state, Action{ControlMode::kEndEffectorDeltaPose, Eigen::VectorXd::Zero(6)});
     CHECK(report.mpm_substeps == 0);
   }
   CHECK(state.food->substeps == 0);

@@ -18,7 +18,7 @@ std::vector<Eigen::VectorXd> Rollout(const Model& model, State* state, int steps
     Action action{ControlMode::kEndEffectorDeltaPose,
                   (Eigen::VectorXd(6) << 0.01 * std::sin(phase), 0.01 * std::cos(phase), -0.005, 0, 0, 0.02).finished()};
     Step(model, state, action);
-    const RobotObservation observation = Observe(model, *state);
+    const RobotObservation observation = ObserveRobot(model, *state);
     Eigen::VectorXd row(14);
     row << observation.qpos_rad, observation.qvel_rad_s;
     trajectory.push_back(row);
@@ -49,7 +49,7 @@ TEST_CASE("corrupt or foreign snapshots are refused and change nothing", "[snaps
   ResetState(*model, &state, 1, {});
   const std::string good = SaveSnapshot(*model, state);
   Rollout(*model, &state, 2);
-  const RobotObservation before = Observe(*model, state);
+  const RobotObservation before = ObserveRobot(*model, state);
   CHECK_THROWS_AS(RestoreSnapshot(*model, "garbage", &state), SnapshotError);
   CHECK_THROWS_AS(RestoreSnapshot(*model, good.substr(0, good.size() - 3), &state), SnapshotError);
   SceneConfig other;
@@ -62,6 +62,6 @@ TEST_CASE("corrupt or foreign snapshots are refused and change nothing", "[snaps
     std::memcpy(&poisoned[first_qpos], &bad, sizeof(double));
     CHECK_THROWS_WITH(RestoreSnapshot(*model, poisoned, &state), Catch::Contains("joint 0"));
   }
-  CHECK(Observe(*model, state).qpos_rad == before.qpos_rad);
+  CHECK(ObserveRobot(*model, state).qpos_rad == before.qpos_rad);
   CHECK(state.frame_id == 2);
 }

@@ -39,7 +39,7 @@ TEST_CASE("pd_ee_pose reaches random targets within 1 mm and 1 degree in 3 s, in
     double position_error = 1e9, angle_error = 1e9;
     for (int step = 0; step < max_steps; ++step) {
       Step(*model, &state, PoseAction(target));
-      const RobotObservation observation = Observe(*model, state);
+      const RobotObservation observation = ObserveRobot(*model, state);
       for (int j = 0; j < 7; ++j) {
         REQUIRE(observation.qpos_rad[j] >= model->robot.limits[j].lower_rad);
         REQUIRE(observation.qpos_rad[j] <= model->robot.limits[j].upper_rad);
@@ -62,7 +62,7 @@ TEST_CASE("a step advances the frame id and the sim time by one control period",
   State state;
   ResetState(*model, &state, 42, {});
   const Action hold{ControlMode::kJointDeltaPosition, Eigen::VectorXd::Zero(7)};
-  StepReport report;
+  StepResult report;
   for (int i = 0; i < 3; ++i) {
     CHECK_FALSE(report.truncated);
     report = Step(*model, &state, hold);
@@ -83,8 +83,8 @@ TEST_CASE("same seed and actions give identical observations", "[step]") {
     Step(*model, &a, action);
     Step(*model, &b, action);
   }
-  CHECK(Observe(*model, a).qpos_rad == Observe(*model, b).qpos_rad);
-  CHECK(Observe(*model, a).qvel_rad_s == Observe(*model, b).qvel_rad_s);
+  CHECK(ObserveRobot(*model, a).qpos_rad == ObserveRobot(*model, b).qpos_rad);
+  CHECK(ObserveRobot(*model, a).qvel_rad_s == ObserveRobot(*model, b).qvel_rad_s);
 }
 
 TEST_CASE("a bad initial qpos at reset is refused with the joint named", "[step]") {
@@ -95,17 +95,41 @@ TEST_CASE("a bad initial qpos at reset is refused with the joint named", "[step]
   CHECK_FALSE(state.has_been_reset());
 }
 
-TEST_CASE("a step reports the time of its stages and accumulates them in the state", "[step]") {
+TEST_CASE("a step reports the time of its stages, which totals accumulate", "[step]") {
   const auto model = testing::DefaultModel();
   State state;
   ResetState(*model, &state, 0, {});
-  const StepReport report =
+  const StepResult report =
       Step(*model, &state, Action{ControlMode::kEndEffectorDeltaPose, Eigen::VectorXd::Zero(6)});
-  CHECK(report.control_wall_time_ms > 0);
-  CHECK(report.physics_wall_time_ms > 0);
-  CHECK(report.control_wall_time_ms + report.physics_wall_time_ms <= report.wall_time_ms);
-  CHECK(state.timers.calls[static_cast<int>(Stage::kPhysics)] == 1);
-  CHECK(state.timers.total_seconds[static_cast<int>(Stage::kPhysics)] * 1e3 == Approx(report.physics_wall_time_ms));
+  CHECK(report.timings[Stage::kControl] > 0);
+  CHECK(report.timings[Stage::kPhysics] > 0);
+  CHECK(report.timings[Stage::kControl] + report.timings[Stage::kPhysics] <= report.wall_time_ms);
+  // A robot-only scene runs no food, topology or task stage.
+  CHECK(report.timings[Stage::kMpm] == 0);
+  CHECK(report.timings[Stage::kTopology] == 0);
+  CHECK(report.timings[Stage::kTask] == 0);
+  StageTotals totals;
+  totals.Add(report.timings);
+  totals.Add(report.timings);
+  CHECK(totals.calls[static_cast<int>(Stage::kPhysics)] == 2);
+  CHECK(totals.calls[static_cast<int>(Stage::kMpm)] == 0);
+  CHECK(totals.wall_s[static_cast<int>(Stage::kPhysics)] * 1e3 == Approx(2 * report.timings[Stage::kPhysics]));
+}
+
+TEST_CASE("a robot-only step has no reward, success or task score", "[step]") {
+  const auto model = testing::DefaultModel();
+  State state;
+  ResetState(*model, &state, 0, {});
+  const StepResult result = Step(*model, &state, Action{ControlMode::kJointDeltaPosition, Eigen::VectorXd::Zero(7)});
+  CHECK(result.reward == 0.0);
+  CHECK_FALSE(result.success);
+  CHECK_FALSE(result.terminated);
+  CHECK_FALSE(result.task_score.has_value());
+  const Observation observation = Observe(*model, state);
+  CHECK(observation.frame_id == 1);
+  CHECK(observation.instruction.empty());
+  CHECK_FALSE(observation.food.has_value());
+  CHECK(observation.images.cameras.empty());
 }
 
 TEST_CASE("with gravity compensation a held pose does not sag", "[step]") {
@@ -116,7 +140,7 @@ TEST_CASE("with gravity compensation a held pose does not sag", "[step]") {
   const Action hold{ControlMode::kJointPosition, q0};
   for (int i = 0; i < 40; ++i) Step(*model, &state, hold);  // 2 s
   // Without compensation the velocity servo sags ~1e-4 rad (test_physics_world.cc).
-  CHECK((Observe(*model, state).qpos_rad - q0).cwiseAbs().maxCoeff() < 1e-5);
+  CHECK((ObserveRobot(*model, state).qpos_rad - q0).cwiseAbs().maxCoeff() < 1e-5);
 }
 
 TEST_CASE("joints stay inside their limits even when the arm is driven into the table", "[step]") {
@@ -128,7 +152,7 @@ TEST_CASE("joints stay inside their limits even when the arm is driven into the 
   // All joints at their lower limits folds the arm onto the table: contact pushes back on the joints.
   for (int step = 0; step < 100; ++step) {
     Step(*model, &state, Action{ControlMode::kJointPosition, lower});
-    const Eigen::VectorXd q = Observe(*model, state).qpos_rad;
+    const Eigen::VectorXd q = ObserveRobot(*model, state).qpos_rad;
     for (int i = 0; i < 7; ++i) REQUIRE(q[i] >= model->robot.limits[i].lower_rad);
   }
 }

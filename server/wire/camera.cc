@@ -1,27 +1,12 @@
-#include "server/camera_wire_conversion.h"
+#include "server/wire/camera.h"
 
 #include <algorithm>
 
-#include "server/task_wire_conversion.h"
+#include "server/wire/values.h"
 #include "sim/render/image_encoding.h"
 
 namespace culinarycut::server {
 namespace {
-
-// Copies the raw bytes of a pixel array into a bytes field (little-endian on every platform we build for).
-template <typename T>
-void AssignBytes(const std::vector<T>& pixels, std::string* field) {
-  field->assign(reinterpret_cast<const char*>(pixels.data()), pixels.size() * sizeof(T));
-}
-
-// Row-major copy of the top `rows` rows of an Eigen matrix into a repeated double field.
-template <typename Matrix>
-void AssignRowMajor(const Matrix& matrix, int rows, google::protobuf::RepeatedField<double>* field) {
-  field->Clear();
-  for (int r = 0; r < rows; ++r) {
-    for (int c = 0; c < matrix.cols(); ++c) field->Add(matrix(r, c));
-  }
-}
 
 // `low` / `high` with one value apply to every element; empty means unbounded.
 void AddImageSpec(v1::CreateSessionResponse* response, const std::string& name, std::vector<std::uint32_t> shape,
@@ -38,23 +23,21 @@ void AddImageSpec(v1::CreateSessionResponse* response, const std::string& name, 
 
 }  // namespace
 
-grpc::Status CameraFromWire(const v1::CameraSpec& wire, const std::string& field, CameraConfig* camera) {
-  camera->name = wire.name();
+CameraConfig CameraFromWire(const v1::CameraSpec& wire, const std::string& field) {
+  CameraConfig camera;
+  camera.name = wire.name();
   const v1::Pose& pose = wire.pose();
   if (pose.position_size() != 0 || pose.quaternion_size() != 0) {  // neither: a default camera's pose
-    try {
-      camera->pose = PoseFromWire(pose, field + ".pose");
-    } catch (const task::TaskError& error) {
-      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, error.what());
-    }
+    camera.pose = PoseFromWire(pose, field + ".pose");
   }
-  camera->attached_link = wire.attached_link();
-  camera->fov_y_deg = wire.fov_y_deg();
-  camera->width = static_cast<int>(std::min<std::uint32_t>(wire.width(), 1u << 20));
-  camera->height = static_cast<int>(std::min<std::uint32_t>(wire.height(), 1u << 20));
-  camera->channels.assign(wire.channels().begin(), wire.channels().end());
-  camera->rgb_encoding = wire.rgb_encoding();
-  return grpc::Status::OK;
+  camera.attached_link = wire.attached_link();
+  camera.fov_y_deg = FiniteFromWire(wire.fov_y_deg(), field + ".fov_y_deg");
+  // Sizes fit an int here; the model checks the supported range (scene_config.h).
+  camera.width = CountFromWire(wire.width(), 1u << 20, field + ".width");
+  camera.height = CountFromWire(wire.height(), 1u << 20, field + ".height");
+  camera.channels.assign(wire.channels().begin(), wire.channels().end());
+  camera.rgb_encoding = wire.rgb_encoding();
+  return camera;
 }
 
 void CameraToWire(const CameraConfig& camera, v1::CameraSpec* wire) {

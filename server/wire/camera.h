@@ -3,16 +3,15 @@
 // image arrays of the CreateSession spec handshake.
 #pragma once
 
-#include <grpcpp/grpcpp.h>
-
 #include "culinarycut/v1/simulator.pb.h"
 #include "sim/render/renderer.h"
 #include "sim/world/model.h"
 
 namespace culinarycut::server {
 
-// INVALID_ARGUMENT naming the field for a malformed pose; the rest is checked when the model compiles.
-grpc::Status CameraFromWire(const v1::CameraSpec& wire, const std::string& field, CameraConfig* camera);
+// Throws FieldError for a malformed pose, a non-finite value or a size past any int; the rest is
+// checked when the model compiles.
+CameraConfig CameraFromWire(const v1::CameraSpec& wire, const std::string& field);
 void CameraToWire(const CameraConfig& camera, v1::CameraSpec* wire);
 
 // One CameraImage per model camera (in order) and the segmentation labels, encoded as the scene asked.

@@ -1,5 +1,6 @@
 // Translation between the culinarycut.v1 task messages and sim/task's structs. Readers throw
-// task::TaskError naming the field at fault; the service turns that into INVALID_ARGUMENT.
+// FieldError naming the field at fault (and sim/task's own checks throw task::TaskError); the
+// services turn both into INVALID_ARGUMENT (status.h). `field` is the message's path in errors.
 #pragma once
 
 #include <string>
@@ -13,17 +14,13 @@
 
 namespace culinarycut::server {
 
-task::CutSpec CutSpecFromWire(const v1::CutSpec& wire);
+task::CutSpec CutSpecFromWire(const v1::CutSpec& wire, const std::string& field);
 void CutSpecToWire(const task::CutSpec& spec, v1::CutSpec* wire);
 
-// `field` names the message in errors, e.g. "objects[2]".
 task::ObjectBox ObjectBoxFromWire(const v1::ObjectBox& wire, const std::string& field);
-// A pose with a 3-vector position and a quaternion of positive norm (normalised here).
-Eigen::Isometry3d PoseFromWire(const v1::Pose& wire, const std::string& field);
-void PoseToWire(const Eigen::Isometry3d& pose, v1::Pose* wire);
 
-task::PlannerOptions PlannerOptionsFromWire(const v1::PlannerOptions& wire);
-task::SuccessTolerances TolerancesFromWire(const v1::SuccessTolerances& wire);
+task::PlannerOptions PlannerOptionsFromWire(const v1::PlannerOptions& wire, const std::string& field);
+task::SuccessTolerances TolerancesFromWire(const v1::SuccessTolerances& wire, const std::string& field);
 task::MeasuredCut MeasuredCutFromWire(const v1::MeasuredCut& wire, const std::string& field);
 
 // The plan with samples at `sample_rate_hz` (0 = no samples).

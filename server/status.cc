@@ -1,0 +1,64 @@
+#include "server/status.h"
+
+#include <spdlog/spdlog.h>
+
+#include "server/wire/field_error.h"
+#include "sim/render/render_error.h"
+#include "sim/task/cut_spec.h"
+#include "sim/world/model.h"
+#include "sim/world/snapshot.h"
+
+namespace culinarycut::server {
+
+grpc::Status NotReset(const Session& session) {
+  return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
+                      "session " + session.id +
+                          " has not been reset; call Reset before Step, Observe, SaveSnapshot or "
+                          "StartOracle");
+}
+
+grpc::Status Broken(const Session& session) {
+  return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
+                      "session " + session.id + " is broken: " + session.broken_reason +
+                          "; call Reset, or RestoreSnapshot with a snapshot taken before, to go on");
+}
+
+grpc::Status FindSession(SessionManager* sessions, const std::string& session_id,
+                         std::shared_ptr<Session>* session) {
+  if (session_id.empty()) return InvalidArgument("session_id is empty; pass the id CreateSession returned");
+  *session = sessions->Find(session_id);
+  if (!*session) {
+    return grpc::Status(grpc::StatusCode::NOT_FOUND,
+                        "no session '" + session_id.substr(0, 64) + (session_id.size() > 64 ? "...'" : "'") +
+                            ": it was closed, reclaimed after being idle, or never existed");
+  }
+  return grpc::Status::OK;
+}
+
+grpc::Status StatusFromCurrentException() {
+  try {
+    throw;
+  } catch (const FieldError& error) {
+    return InvalidArgument(error.what());
+  } catch (const UnimplementedField& error) {
+    return grpc::Status(grpc::StatusCode::UNIMPLEMENTED, error.what());
+  } catch (const SceneError& error) {
+    return InvalidArgument(error.what());
+  } catch (const SnapshotError& error) {
+    return InvalidArgument(std::string("snapshot: ") + error.what());
+  } catch (const task::TaskError& error) {
+    return InvalidArgument(error.what());
+  } catch (const render::RenderError& error) {
+    spdlog::error("rendering failed: {}", error.what());
+    return grpc::Status(grpc::StatusCode::INTERNAL,
+                        std::string("rendering the cameras failed: ") + error.what() +
+                            "; the simulation state is intact (Observe retries the images)");
+  } catch (const std::exception& error) {
+    spdlog::error("internal error: {}", error.what());
+    return grpc::Status(grpc::StatusCode::INTERNAL, std::string("internal error: ") + error.what());
+  } catch (...) {
+    return grpc::Status(grpc::StatusCode::INTERNAL, "internal error of an unknown kind");
+  }
+}
+
+}  // namespace culinarycut::server

@@ -1,0 +1,45 @@
+// The gRPC status of every situation the services share, so one situation always gets the same
+// code and message: unknown sessions, sessions not reset or broken, and every exception the
+// engine or the wire layer can throw.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <grpcpp/grpcpp.h>
+
+#include "server/session_manager.h"
+
+namespace culinarycut::server {
+
+inline grpc::Status InvalidArgument(const std::string& message) {
+  return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, message);
+}
+
+// FAILED_PRECONDITION for a call that needs an episode on a session never reset.
+grpc::Status NotReset(const Session& session);
+
+// FAILED_PRECONDITION for a call that needs a consistent state on a session whose last Step failed.
+grpc::Status Broken(const Session& session);
+
+// INVALID_ARGUMENT for an empty id, NOT_FOUND when the id names no live session.
+grpc::Status FindSession(SessionManager* sessions, const std::string& session_id,
+                         std::shared_ptr<Session>* session);
+
+// The status of the exception being handled (call inside a catch block): the wire's FieldError,
+// the engine's SceneError, SnapshotError and task::TaskError -> INVALID_ARGUMENT; UnimplementedField
+// -> UNIMPLEMENTED; render::RenderError -> INTERNAL (the state is intact); anything else ->
+// INTERNAL with its message. Never UNKNOWN.
+grpc::Status StatusFromCurrentException();
+
+// Runs `body` (returning grpc::Status) and turns any exception into its status.
+template <typename Body>
+grpc::Status Guarded(Body&& body) {
+  try {
+    return body();
+  } catch (...) {
+    return StatusFromCurrentException();
+  }
+}
+
+}  // namespace culinarycut::server

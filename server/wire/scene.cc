@@ -1,0 +1,140 @@
+#include "server/wire/scene.h"
+
+#include "server/wire/camera.h"
+#include "server/wire/values.h"
+
+namespace culinarycut::server {
+namespace {
+
+FoodConfig FoodFromWire(const v1::FoodObject& wire, const std::string& field) {
+  FoodConfig food;
+  food.food = wire.food();
+  if (food.food.empty()) throw FieldError(field + ".food", "is empty; name a food, e.g. \"cucumber\"");
+  food.scale = wire.scale() == 0 ? 1.0 : RangeFromWire(wire.scale(), 1e-3, 10.0, field + ".scale");
+  const v1::Pose& pose = wire.pose();
+  if (pose.position_size() != 0) food.position_m = Vector3FromWire(pose.position(), field + ".pose.position");
+  if (pose.quaternion_size() != 0) {
+    if (pose.quaternion_size() != 4) {
+      throw FieldError(field + ".pose.quaternion", "must have 4 values [w, x, y, z] or none");
+    }
+    const Eigen::Quaterniond q(pose.quaternion(0), pose.quaternion(1), pose.quaternion(2), pose.quaternion(3));
+    if (!q.coeffs().allFinite() || q.norm() < 1e-6) {
+      throw FieldError(field + ".pose.quaternion", "must be finite and non-zero");
+    }
+    food.orientation = q.normalized();
+  }
+  food.material = wire.material();
+  for (const auto& [key, value] : wire.material_overrides()) {
+    food.material_overrides[key] = FiniteFromWire(value, field + ".material_overrides." + key.substr(0, 64));
+  }
+  return food;
+}
+
+TaskConfig TaskFromWire(const v1::TaskSpec& task) {
+  return TaskConfig{task.instruction(), task.cut_style(), task.cut_state(),
+                    FiniteFromWire(task.ratio(), "scene.task.ratio"),
+                    CountFromWire(task.split_pieces(), 1000, "scene.task.split_pieces"), task.target_object(),
+                    task.reference()};
+}
+
+}  // namespace
+
+SceneConfig SceneFromWire(const v1::SceneSpec& wire) {
+  const v1::Effects& effects = wire.effects();
+  if (effects.safety_limiter()) throw UnimplementedField("scene.effects.safety_limiter", "the safety limiter");
+
+  SceneConfig config;
+  config.effects = EffectsConfig{effects.mpm(), effects.plasticity(), effects.damage(),
+                                 effects.friction(), effects.topology(), effects.force_sensing()};
+  for (int i = 0; i < wire.objects_size(); ++i) {
+    config.foods.push_back(FoodFromWire(wire.objects(i), "scene.objects[" + std::to_string(i) + "]"));
+  }
+  for (int i = 0; i < wire.cameras_size(); ++i) {
+    config.cameras.push_back(CameraFromWire(wire.cameras(i), "scene.cameras[" + std::to_string(i) + "]"));
+  }
+  config.task = TaskFromWire(wire.task());
+  const v1::MpmSettings& mpm = wire.mpm();
+  if (mpm.dx() != 0) config.mpm.dx_m = FiniteFromWire(mpm.dx(), "scene.mpm.dx");
+  if (mpm.particles_per_cell() != 0) {
+    config.mpm.particles_per_cell = CountFromWire(mpm.particles_per_cell(), 1000, "scene.mpm.particles_per_cell");
+  }
+  if (mpm.cfl() != 0) config.mpm.cfl = FiniteFromWire(mpm.cfl(), "scene.mpm.cfl");
+  config.seed = wire.seed();
+  if (!wire.quality().empty()) config.quality = wire.quality();
+  config.max_episode_steps = wire.max_episode_steps();
+  if (!wire.scene().empty()) config.scene = wire.scene();
+  const v1::RobotSpec& robot = wire.robot();
+  if (robot.control_frequency_hz() != 0) {
+    config.robot.control_frequency_hz = FiniteFromWire(robot.control_frequency_hz(), "scene.robot.control_frequency_hz");
+  }
+  if (robot.physics_frequency_hz() != 0) {
+    config.robot.physics_frequency_hz = FiniteFromWire(robot.physics_frequency_hz(), "scene.robot.physics_frequency_hz");
+  }
+  if (robot.joint_stiffness() != 0) {
+    config.robot.joint_stiffness_per_s = FiniteFromWire(robot.joint_stiffness(), "scene.robot.joint_stiffness");
+  }
+  for (int i = 0; i < robot.initial_qpos_size(); ++i) {
+    config.robot.initial_qpos_rad.push_back(
+        FiniteFromWire(robot.initial_qpos(i), "scene.robot.initial_qpos[" + std::to_string(i) + "]"));
+  }
+  return config;
+}
+
+v1::SceneSpec SceneToWire(const SceneConfig& config) {
+  v1::SceneSpec wire;
+  wire.set_seed(config.seed);
+  wire.set_scene(config.scene);
+  wire.set_quality(config.quality);
+  wire.set_max_episode_steps(config.max_episode_steps);
+  v1::RobotSpec* robot = wire.mutable_robot();
+  robot->set_control_frequency_hz(config.robot.control_frequency_hz);
+  robot->set_physics_frequency_hz(config.robot.physics_frequency_hz);
+  robot->set_joint_stiffness(config.robot.joint_stiffness_per_s);
+  for (double q : config.robot.initial_qpos_rad) robot->add_initial_qpos(q);
+  v1::Effects* effects = wire.mutable_effects();
+  effects->set_mpm(config.effects.mpm);
+  effects->set_plasticity(config.effects.plasticity);
+  effects->set_damage(config.effects.damage);
+  effects->set_friction(config.effects.friction);
+  effects->set_topology(config.effects.topology);
+  effects->set_force_sensing(config.effects.force_sensing);
+  for (const CameraConfig& camera : config.cameras) CameraToWire(camera, wire.add_cameras());
+  if (!config.task.empty()) {
+    v1::TaskSpec* task = wire.mutable_task();
+    task->set_instruction(config.task.instruction);
+    task->set_cut_style(config.task.cut_style);
+    task->set_cut_state(config.task.cut_state);
+    task->set_ratio(config.task.ratio);
+    task->set_split_pieces(static_cast<std::uint32_t>(config.task.split_pieces));
+    task->set_target_object(config.task.target_object);
+    task->set_reference(config.task.reference);
+  }
+  for (const FoodConfig& food : config.foods) {
+    v1::FoodObject* object = wire.add_objects();
+    object->set_food(food.food);
+    object->set_scale(food.scale);
+    object->set_material(food.material);
+    for (const auto& [key, value] : food.material_overrides) (*object->mutable_material_overrides())[key] = value;
+    if (food.position_m) AssignVector(*food.position_m, object->mutable_pose()->mutable_position());
+    if (food.orientation) {
+      for (double c : {food.orientation->w(), food.orientation->x(), food.orientation->y(), food.orientation->z()}) {
+        object->mutable_pose()->add_quaternion(c);
+      }
+    }
+  }
+  return wire;
+}
+
+void ResolvedFoodToWire(const FoodModel& food, v1::SceneSpec* wire) {
+  wire->mutable_mpm()->set_dx(food.resolution.dx_m);
+  wire->mutable_mpm()->set_particles_per_cell(static_cast<std::uint32_t>(food.resolution.particles_per_cell));
+  wire->mutable_mpm()->set_cfl(food.resolution.cfl);
+  for (int i = 0; i < wire->objects_size() && i < static_cast<int>(food.objects.size()); ++i) {
+    PoseToWire(food.objects[i].pose, wire->mutable_objects(i)->mutable_pose());
+    if (food.materials[i].name != wire->objects(i).material() && wire->objects(i).material().empty()) {
+      wire->mutable_objects(i)->set_material(food.materials[i].name);
+    }
+  }
+}
+
+}  // namespace culinarycut::server

@@ -1,0 +1,20 @@
+// SceneSpec on the wire <-> the engine's SceneConfig. Reading checks only what the wire can get
+// wrong (sizes, non-finite values, counts past an int); the model checks the physical ranges.
+#pragma once
+
+#include "culinarycut/v1/simulator.pb.h"
+#include "sim/world/food_model.h"
+#include "sim/world/scene_config.h"
+
+namespace culinarycut::server {
+
+// Throws FieldError naming the field (e.g. "scene.objects[1].scale"), or UnimplementedField for a
+// feature this server does not have yet.
+SceneConfig SceneFromWire(const v1::SceneSpec& wire);
+
+// The scene with every default filled in, as the client should record it.
+v1::SceneSpec SceneToWire(const SceneConfig& config);
+// Fills in what the food model resolved: each object's pose and the MPM resolution.
+void ResolvedFoodToWire(const FoodModel& food, v1::SceneSpec* wire);
+
+}  // namespace culinarycut::server

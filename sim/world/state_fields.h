@@ -1,0 +1,125 @@
+// The one list of a State's fields, in one fixed order. Snapshot (write), restore (read), copy and
+// the field-by-field comparison tests use all walk it, so a new field is added here and nowhere
+// else. An Archive has `static constexpr bool kReading` and three methods, each taking a field name
+// (for error messages and comparisons) and the field:
+//   Scalar(name, T&)                      a plain value (integer, float, bool, enum)
+//   Vector(name, Eigen::VectorXd&, size)  a joint vector of exactly `size` entries
+//   Array(name, std::vector<T>&, size)    a per-particle array of exactly `size` entries
+// Fields that live behind an interface (the Bullet world's joint state, the solver's substep
+// count) go through a local copy: written from the object, or read into it afterwards.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "sim/world/model.h"
+#include "sim/world/state.h"
+
+namespace culinarycut {
+
+namespace state_fields_detail {
+
+template <typename Archive>
+void VisitVector3(Archive& archive, const std::string& name, Eigen::Vector3d& v) {
+  archive.Scalar((name + ".x").c_str(), v.x());
+  archive.Scalar((name + ".y").c_str(), v.y());
+  archive.Scalar((name + ".z").c_str(), v.z());
+}
+
+template <typename Archive>
+void VisitWrench(Archive& archive, const std::string& name, KnifeWrench& wrench) {
+  VisitVector3(archive, name + ".force_n", wrench.force_n);
+  VisitVector3(archive, name + ".torque_nm", wrench.torque_nm);
+}
+
+template <typename Archive, typename ParticlesT>
+void VisitParticles(Archive& archive, ParticlesT& p, std::size_t count) {
+  static const char* const kAxes[3] = {"x", "y", "z"};
+  for (int axis = 0; axis < 3; ++axis) archive.Array((std::string("food.position.") + kAxes[axis]).c_str(), p.position[axis], count);
+  for (int axis = 0; axis < 3; ++axis) archive.Array((std::string("food.velocity.") + kAxes[axis]).c_str(), p.velocity[axis], count);
+  for (int k = 0; k < 9; ++k) archive.Array(("food.F[" + std::to_string(k) + "]").c_str(), p.F[k], count);
+  for (int k = 0; k < 9; ++k) archive.Array(("food.C[" + std::to_string(k) + "]").c_str(), p.C[k], count);
+  archive.Array("food.mass", p.mass, count);
+  archive.Array("food.volume", p.volume, count);
+  archive.Array("food.plastic_strain", p.plastic_strain, count);
+  archive.Array("food.damage", p.damage, count);
+  archive.Array("food.piece", p.piece, count);
+  archive.Array("food.blade_side", p.blade_side, count);
+  archive.Array("food.material", p.material, count);
+  archive.Array("food.object", p.object, count);
+}
+
+template <typename Archive>
+void VisitPiece(Archive& archive, const std::string& name, mpm::Piece& piece) {
+  archive.Scalar((name + ".label").c_str(), piece.label);
+  archive.Scalar((name + ".object").c_str(), piece.object);
+  archive.Scalar((name + ".particle_count").c_str(), piece.particle_count);
+  archive.Scalar((name + ".volume_m3").c_str(), piece.volume_m3);
+  archive.Scalar((name + ".mass_kg").c_str(), piece.mass_kg);
+  Eigen::Vector3d low = piece.bounds_m.min(), high = piece.bounds_m.max();
+  VisitVector3(archive, name + ".bounds_min_m", low);
+  VisitVector3(archive, name + ".bounds_max_m", high);
+  if constexpr (Archive::kReading) piece.bounds_m = Eigen::AlignedBox3d(low, high);
+  VisitVector3(archive, name + ".centroid_m", piece.centroid_m);
+}
+
+// Precondition when reading: `food` was reset from the model (solver built, colliders placed).
+template <typename Archive>
+void VisitFood(Archive& archive, const Model& model, FoodState& food) {
+  const std::size_t count = model.food->initial_particles.size();
+  VisitParticles(archive, food.solver->particles(), count);
+  std::uint64_t solver_substeps = food.solver->substeps_taken();  // decides the next reordering
+  archive.Scalar("food.solver_substeps", solver_substeps);
+  if constexpr (Archive::kReading) food.solver->RestoreSubstepsTaken(solver_substeps);
+  archive.Scalar("food.awake", food.awake);
+  archive.Scalar("food.quiet_time_s", food.quiet_time_s);
+  archive.Scalar("food.substeps", food.substeps);
+  archive.Scalar("food.mpm_time_s", food.mpm_time_s);
+  VisitWrench(archive, "food.wrench", food.wrench);
+  VisitWrench(archive, "food.control_step_wrench", food.control_step_wrench);
+  archive.Scalar("food.knife_speed_factor", food.knife_speed_factor);
+  archive.Scalar("food.contact_last_step", food.contact_last_step);
+  archive.Scalar("food.substeps_last_step", food.substeps_last_step);
+  bool has_contact = food.first_contact_frame.has_value();
+  std::uint64_t contact_frame = food.first_contact_frame.value_or(0);
+  double contact_time_s = food.first_contact_time_s.value_or(0.0);
+  archive.Scalar("food.has_first_contact", has_contact);
+  archive.Scalar("food.first_contact_frame", contact_frame);
+  archive.Scalar("food.first_contact_time_s", contact_time_s);
+  if constexpr (Archive::kReading) {
+    food.first_contact_frame = has_contact ? std::optional<std::uint64_t>(contact_frame) : std::nullopt;
+    food.first_contact_time_s = has_contact ? std::optional<double>(contact_time_s) : std::nullopt;
+  }
+  std::uint64_t piece_count = food.pieces.size();
+  archive.Scalar("food.piece_count", piece_count);
+  if constexpr (Archive::kReading) {
+    if (piece_count > count) throw SnapshotError("food.piece_count: more pieces than particles");
+    food.pieces.assign(piece_count, mpm::Piece{});
+  }
+  for (std::size_t i = 0; i < food.pieces.size(); ++i) {
+    VisitPiece(archive, "food.pieces[" + std::to_string(i) + "]", food.pieces[i]);
+  }
+  if constexpr (Archive::kReading) food.particle_bounds = ParticleBounds(food.solver->particles());
+}
+
+}  // namespace state_fields_detail
+
+// Walks every field of a reset `state` (for reading: a state whose physics world and food were
+// just built from `model`, see snapshot.cc). Writing archives only read the fields.
+template <typename Archive>
+void VisitState(Archive& archive, const Model& model, State& state) {
+  const auto dof = static_cast<std::size_t>(model.robot.dof());
+  archive.Scalar("frame_id", state.frame_id);
+  archive.Scalar("sim_time_s", state.sim_time_s);
+  archive.Scalar("seed", state.seed);
+  archive.Scalar("episode_steps", state.episode_steps);
+  Eigen::VectorXd q = state.physics->JointPositions();
+  Eigen::VectorXd qdot = state.physics->JointVelocities();
+  archive.Vector("robot.qpos_rad", q, dof);
+  archive.Vector("robot.qvel_rad_s", qdot, dof);
+  if constexpr (Archive::kReading) state.physics->SetJointState(q, qdot);
+  archive.Vector("robot.q_target_rad", state.q_target_rad, dof);
+  if (state.food) state_fields_detail::VisitFood(archive, model, *state.food);
+}
+
+}  // namespace culinarycut
