@@ -46,10 +46,16 @@ class DeadlineExceeded(CulinaryCutError):
     code = grpc.StatusCode.DEADLINE_EXCEEDED
 
 
+class Internal(CulinaryCutError):
+    """The engine failed inside a call (e.g. a runaway MPM state); the message says how to recover."""
+
+    code = grpc.StatusCode.INTERNAL
+
+
 _BY_CODE = {
     cls.code: cls
     for cls in (InvalidArgument, NotFound, FailedPrecondition, ResourceExhausted, Unimplemented,
-                Unavailable, DeadlineExceeded)
+                Unavailable, DeadlineExceeded, Internal)
 }
 
 

@@ -118,3 +118,40 @@ TEST_CASE("an oracle cut through a cucumber leaves two pieces and loads the knif
   CHECK(before_n < 1e-6);
   CHECK(during_n > 1.0);
 }
+
+TEST_CASE("the engine scores the scene's task: reward, success and termination come with the step that cuts",
+          "[food_world]") {
+  SceneConfig config = CucumberScene(true);
+  config.task.instruction = "cut the cucumber in the middle";
+  const auto model = testing::DefaultModel(config);
+  REQUIRE(model->task.has_value());
+  State state;
+  ResetState(*model, &state, 3, {});
+  const Observation before = Observe(*model, state);
+  CHECK(before.instruction == "cut the cucumber in the middle");
+  REQUIRE(before.task_score.has_value());
+  CHECK_FALSE(before.task_score->success);
+
+  OracleConfig oracle_config;
+  oracle_config.spec = model->task->spec;
+  oracle_config.objects = model->food->objects;
+  const ScriptedOracle oracle(*model, oracle_config, state.physics->JointPositions(), state.sim_time_s);
+  StepResult last;
+  int steps_before_success = 0;
+  while (!oracle.Finished(state.sim_time_s) && !last.terminated) {
+    const Eigen::VectorXd action = oracle.Act(*model, state.physics->JointPositions(), state.sim_time_s);
+    last = Step(*model, &state, Action{oracle.control_mode(), action});
+    REQUIRE(last.task_score.has_value());
+    CHECK(last.reward == (last.success ? 1.0 : 0.0));
+    CHECK(last.terminated == last.success);
+    if (!last.success) ++steps_before_success;
+  }
+  CHECK(last.success);
+  CHECK(last.terminated);
+  CHECK(steps_before_success > 0);
+  const Observation after = Observe(*model, state);
+  REQUIRE(after.task_score.has_value());
+  CHECK(after.task_score->success);
+  REQUIRE(after.food.has_value());
+  CHECK(after.food->pieces.size() >= 2);
+}

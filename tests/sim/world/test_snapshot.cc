@@ -65,3 +65,32 @@ TEST_CASE("corrupt or foreign snapshots are refused and change nothing", "[snaps
   CHECK(ObserveRobot(*model, state).qpos_rad == before.qpos_rad);
   CHECK(state.frame_id == 2);
 }
+
+TEST_CASE("the state comparison names the first field that differs", "[snapshot]") {
+  const auto model = testing::DefaultModel();
+  State a, b;
+  ResetState(*model, &a, 4, {});
+  ResetState(*model, &b, 4, {});
+  CHECK_FALSE(FirstStateDifference(*model, a, b).has_value());
+  Rollout(*model, &a, 3);
+  Rollout(*model, &b, 3);
+  CHECK_FALSE(FirstStateDifference(*model, a, b).has_value());  // same seed and actions: same bits
+  b.q_target_rad[2] += 1e-12;
+  CHECK(FirstStateDifference(*model, a, b) == std::optional<std::string>("robot.q_target_rad"));
+  Rollout(*model, &b, 1);
+  CHECK(FirstStateDifference(*model, a, b) == std::optional<std::string>("frame_id"));
+}
+
+TEST_CASE("a copied state is independent and steps exactly like its source", "[snapshot]") {
+  const auto model = testing::DefaultModel();
+  State source, copy;
+  ResetState(*model, &source, 2, {});
+  Rollout(*model, &source, 5);
+  CopyState(*model, source, &copy);
+  CHECK_FALSE(FirstStateDifference(*model, source, copy).has_value());
+  CHECK(copy.physics.get() != source.physics.get());
+  const auto from_source = Rollout(*model, &source, 10);
+  const auto from_copy = Rollout(*model, &copy, 10);
+  CHECK(from_source == from_copy);
+  CHECK_FALSE(FirstStateDifference(*model, source, copy).has_value());
+}
