@@ -4,6 +4,7 @@
 
 #include <urdf_parser/urdf_parser.h>
 
+#include "sim/robot/kinematics.h"
 #include "sim/robot/urdf_pose.h"
 
 namespace culinarycut {
@@ -121,6 +122,10 @@ RobotDescription LoadRobotDescription(const std::string& urdf_path, const std::s
     MergeInto(owner, link, link_to_owner, urdf_path);
   }
   if (robot.links.empty()) throw std::runtime_error(urdf_path + ": no movable joint between the root and '" + tip_link + "'");
+  if (robot.dof() > kMaxJoints) {
+    throw std::runtime_error(urdf_path + ": " + std::to_string(robot.dof()) + " movable joints; at most " +
+                             std::to_string(kMaxJoints) + " are supported");
+  }
   robot.tip_frames[robot.links.back().name] = Eigen::Isometry3d::Identity();
   return robot;
 }

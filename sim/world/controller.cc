@@ -80,8 +80,8 @@ JointTarget ComputeJointTarget(const Model& model, const Eigen::VectorXd& q_meas
   return target;
 }
 
-Eigen::VectorXd JointVelocityCommand(const Model& model, const Eigen::VectorXd& q_rad, const Eigen::VectorXd& q_target_rad) {
-  Eigen::VectorXd command = model.config.robot.joint_stiffness_per_s * (q_target_rad - q_rad);
+JointVector JointVelocityCommand(const Model& model, JointValues q_rad, JointValues q_target_rad) {
+  JointVector command = model.config.robot.joint_stiffness_per_s * (q_target_rad - q_rad);
   // Scale the whole command, not each joint alone: clamping joints separately bends the joint-space
   // direction and the knife leaves its straight path.
   double worst_ratio = 1.0;

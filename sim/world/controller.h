@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include "sim/robot/inverse_kinematics.h"
+#include "sim/robot/kinematics.h"
 #include "sim/world/control_mode.h"
 #include "sim/world/model.h"
 
@@ -32,6 +33,7 @@ struct JointTarget {
 JointTarget ComputeJointTarget(const Model& model, const Eigen::VectorXd& q_measured_rad, const Action& action);
 
 // Motor velocity command (rad/s) towards the target, within every joint's speed limit, its direction kept.
-Eigen::VectorXd JointVelocityCommand(const Model& model, const Eigen::VectorXd& q_rad, const Eigen::VectorXd& q_target_rad);
+// Allocates nothing: it runs once per physics substep.
+JointVector JointVelocityCommand(const Model& model, JointValues q_rad, JointValues q_target_rad);
 
 }  // namespace culinarycut

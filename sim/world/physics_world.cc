@@ -142,23 +142,23 @@ void PhysicsWorld::SetJointState(const Eigen::VectorXd& q_rad, const Eigen::Vect
   UpdateLinkTransforms();
 }
 
-Eigen::VectorXd PhysicsWorld::JointPositions() const {
-  Eigen::VectorXd q(robot_->getNumLinks());
+JointVector PhysicsWorld::JointPositions() const {
+  JointVector q(robot_->getNumLinks());
   for (int i = 0; i < q.size(); ++i) q[i] = robot_->getJointPos(i);
   return q;
 }
 
-Eigen::VectorXd PhysicsWorld::JointVelocities() const {
-  Eigen::VectorXd qdot(robot_->getNumLinks());
+JointVector PhysicsWorld::JointVelocities() const {
+  JointVector qdot(robot_->getNumLinks());
   for (int i = 0; i < qdot.size(); ++i) qdot[i] = robot_->getJointVel(i);
   return qdot;
 }
 
-void PhysicsWorld::SetJointVelocityCommand(const Eigen::VectorXd& qdot_rad_s) {
+void PhysicsWorld::SetJointVelocityCommand(JointValues qdot_rad_s) {
   for (size_t i = 0; i < motors_.size(); ++i) motors_[i]->setVelocityTarget(qdot_rad_s[i], 1.0);
 }
 
-void PhysicsWorld::AddJointTorques(const Eigen::VectorXd& torques_nm) {
+void PhysicsWorld::AddJointTorques(JointValues torques_nm) {
   for (int i = 0; i < robot_->getNumLinks(); ++i) robot_->addJointTorque(i, torques_nm[i]);
 }
 

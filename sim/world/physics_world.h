@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "sim/robot/kinematics.h"
 #include "sim/robot/robot_description.h"
 #include "sim/world/scene_layout.h"
 
@@ -34,14 +35,14 @@ class PhysicsWorld {
   PhysicsWorld& operator=(const PhysicsWorld&) = delete;
 
   void SetJointState(const Eigen::VectorXd& q_rad, const Eigen::VectorXd& qdot_rad_s);
-  Eigen::VectorXd JointPositions() const;
-  Eigen::VectorXd JointVelocities() const;
+  JointVector JointPositions() const;
+  JointVector JointVelocities() const;
 
   // Joint motors drive each joint towards a velocity (rad/s) with at most its effort limit.
-  void SetJointVelocityCommand(const Eigen::VectorXd& qdot_rad_s);
+  void SetJointVelocityCommand(JointValues qdot_rad_s);
 
   // Adds joint torques (N m) for the next physics timestep only (Bullet clears them after a step).
-  void AddJointTorques(const Eigen::VectorXd& torques_nm);
+  void AddJointTorques(JointValues torques_nm);
 
   // Advances by one physics timestep; joints never end it outside their limits.
   void StepOnce();

@@ -6,12 +6,12 @@
 namespace culinarycut {
 namespace {
 
-Eigen::Isometry3d TcpInWorld(const Model& model, const Eigen::VectorXd& q_rad) {
+Eigen::Isometry3d TcpInWorld(const Model& model, JointValues q_rad) {
   return model.robot_base_in_world * TipPose(model.robot, q_rad, model.tcp_in_last_link);
 }
 
 // Joint torques (N m) that put the food's wrench on the knife TCP: tau = J^T [f; t] (base frame).
-Eigen::VectorXd KnifeWrenchTorques(const Model& model, const Eigen::VectorXd& q_rad, const KnifeWrench& wrench) {
+JointVector KnifeWrenchTorques(const Model& model, JointValues q_rad, const KnifeWrench& wrench) {
   const Eigen::Matrix3d world_to_base = model.robot_base_in_world.linear().transpose();
   Eigen::Matrix<double, 6, 1> wrench_in_base;
   wrench_in_base << world_to_base * wrench.force_n, world_to_base * wrench.torque_nm;
@@ -28,13 +28,13 @@ void ApplyAction(const Model& model, const Action& action, State* state, StepRes
 
 // Stage "robot", one physics step: the PD loop runs at the physics rate, a fresh velocity command
 // every substep on top of gravity compensation (as the Panda's own controller does), so the servo
-// only handles motion. With food, the food's wrench from the last physics step acts on the knife
+// only handles motion; nothing here allocates (the joint vectors hold their storage). With food, the food's wrench from the last physics step acts on the knife
 // and the speed resistance slows the servo while the knife is in the food (two-way coupling).
 void AdvanceRobot(const Model& model, State* state) {
   const Eigen::Vector3d gravity_in_base = model.robot_base_in_world.linear().transpose() * model.layout.gravity_m_s2;
-  const Eigen::VectorXd q = state->physics->JointPositions();
+  const JointVector q = state->physics->JointPositions();
   state->physics->AddJointTorques(GravityTorques(model.robot, q, gravity_in_base));
-  Eigen::VectorXd qdot_command = JointVelocityCommand(model, q, state->q_target_rad);
+  JointVector qdot_command = JointVelocityCommand(model, q, state->q_target_rad);
   if (const FoodState* food = state->food.get()) {
     state->physics->AddJointTorques(KnifeWrenchTorques(model, q, food->wrench));
     qdot_command *= food->knife_speed_factor;
