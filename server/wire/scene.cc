@@ -131,8 +131,8 @@ void ResolvedFoodToWire(const FoodModel& food, v1::SceneSpec* wire) {
   wire->mutable_mpm()->set_cfl(food.resolution.cfl);
   for (int i = 0; i < wire->objects_size() && i < static_cast<int>(food.objects.size()); ++i) {
     PoseToWire(food.objects[i].pose, wire->mutable_objects(i)->mutable_pose());
-    if (food.materials[i].name != wire->objects(i).material() && wire->objects(i).material().empty()) {
-      wire->mutable_objects(i)->set_material(food.materials[i].name);
+    if (food.solver->materials[i].name != wire->objects(i).material() && wire->objects(i).material().empty()) {
+      wire->mutable_objects(i)->set_material(food.solver->materials[i].name);
     }
   }
 }

@@ -39,15 +39,17 @@ void ValidateSolverConfig(const SolverConfig& config) {
 }
 
 template <typename Real>
-Solver<Real>::Solver(const SolverConfig& config, std::vector<Material> materials)
-    : config_(config),
-      materials_(std::move(materials)),
-      grid_(std::make_unique<Grid>()),
-      workspace_(std::make_unique<Workspace>()) {
-  ValidateSolverConfig(config_);
-  if (materials_.empty()) throw std::invalid_argument("solver: give at least one material");
-  for (const Material& material : materials_) ValidateMaterial(material);
+Solver<Real>::Solver(std::shared_ptr<const SolverModel> model)
+    : model_(std::move(model)), grid_(std::make_unique<Grid>()), workspace_(std::make_unique<Workspace>()) {
+  if (!model_) throw std::invalid_argument("solver: no model");
+  ValidateSolverConfig(config());
+  if (materials().empty()) throw std::invalid_argument("solver: give at least one material");
+  for (const Material& material : materials()) ValidateMaterial(material);
 }
+
+template <typename Real>
+Solver<Real>::Solver(const SolverConfig& config, std::vector<Material> materials)
+    : Solver(std::make_shared<const SolverModel>(SolverModel{config, std::move(materials)})) {}
 
 template <typename Real>
 Solver<Real>::~Solver() = default;
@@ -58,7 +60,7 @@ Solver<Real>& Solver<Real>::operator=(Solver&&) noexcept = default;
 
 template <typename Real>
 void Solver<Real>::SetKnife(const KnifeGeometry& geometry) {
-  knife_ = std::make_unique<KnifeSdf>(geometry, config_.dx_m);
+  knife_ = std::make_unique<KnifeSdf>(geometry, config().dx_m);
 }
 
 template <typename Real>
@@ -90,22 +92,22 @@ void Solver<Real>::RestoreSubstepsTaken(std::uint64_t count) {
 template <typename Real>
 double Solver<Real>::StableTimestep() const {
   double fastest_m_s = 0.0;
-  for (const Material& material : materials_) {
+  for (const Material& material : materials()) {
     fastest_m_s = std::max(fastest_m_s, material.dilatational_wave_speed_m_s());
   }
-  return std::min(config_.max_dt_s, config_.cfl * config_.dx_m / fastest_m_s);
+  return std::min(config().max_dt_s, config().cfl * config().dx_m / fastest_m_s);
 }
 
 
 template <typename Real>
 SubstepContext Solver<Real>::MakeContext(double dt_s) const {
   SubstepContext context;
-  const double dx = config_.dx_m;
-  const CuttingParameters& cutting = config_.cutting;
+  const double dx = config().dx_m;
+  const CuttingParameters& cutting = config().cutting;
   context.dt_s = dt_s;
   context.dx_m = dx;
   context.knife_on = knife_ != nullptr;
-  context.split_on = context.knife_on && config_.effects.two_sided_blade;
+  context.split_on = context.knife_on && config().effects.two_sided_blade;
   // Resolution-invariant cutting thresholds (paper): band and v_th rescale with dx and dt.
   context.band_m = cutting.band0_m * std::pow(cutting.band_reference_dx_m / dx, cutting.band_gamma);
   context.v_threshold_m_s = (dx / dt_s) * cutting.v_hat;
@@ -205,7 +207,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   // One parallel region for the whole substep (one fork and join).
   // No smaller team for few particles: the results are the same bits on any team, and the tests'
   // one-against-two-threads check (about 2000 particles) must run a real team of two.
-  const int team = config_.threads;
+  const int team = config().threads;
   PrepareWorkspace(team);
   SubstepShared shared;
   ContactState contact;
@@ -239,7 +241,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   diagnostics.c_hat = contact.c_hat;
   diagnostics.knife_velocity_m_s =
       context.knife_on ? knife_->motion().linear_velocity_m_s : Eigen::Vector3d::Zero();
-  if (config_.effects.force_sensing) {
+  if (config().effects.force_sensing) {
     // The food pushes each collider with minus the impulse the collider gave it (paper eq. force).
     diagnostics.force_on_blade_n = -grid_totals.blade_impulse / dt_s;
     diagnostics.force_on_handle_n = -grid_totals.handle_impulse / dt_s;
@@ -252,7 +254,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
         collider_impulse + grid_totals.other_impulse + particle_totals.particle_impulse;
     // Relative to the larger of the contact impulse and the food's weight over the substep.
     const double scale = std::max(collider_impulse.norm(),
-                                  grid_totals.mass * config_.gravity_m_s2.norm() * dt_s);
+                                  grid_totals.mass * config().gravity_m_s2.norm() * dt_s);
     diagnostics.momentum_residual =
         scale > 0.0
             ? (diagnostics.momentum_change_n_s - diagnostics.external_impulse_n_s).norm() / scale
@@ -261,10 +263,10 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   // Quadratic speed resistance (paper): u <- u / (1 + k2 c-hat u dt) with u = 1 the current speed;
   // k2 grows with the material's stiffness and strength.
   if (context.knife_on && contact.c_hat > 0.0) {
-    const Material& material = materials_.front();
-    const double k2 = config_.cutting.k2_reference_per_s *
-                      (material.youngs_modulus_pa / config_.cutting.k2_reference_youngs_pa) *
-                      (1.0 + material.yield_stress_pa / config_.cutting.k2_reference_yield_pa);
+    const Material& material = materials().front();
+    const double k2 = config().cutting.k2_reference_per_s *
+                      (material.youngs_modulus_pa / config().cutting.k2_reference_youngs_pa) *
+                      (1.0 + material.yield_stress_pa / config().cutting.k2_reference_yield_pa);
     diagnostics.knife_speed_factor = 1.0 / (1.0 + k2 * contact.c_hat * dt_s);
   }
   return diagnostics;

@@ -57,10 +57,19 @@ struct SubstepDiagnostics {
   double g2p_ms = 0.0;
 };
 
+// The read-only inputs of a solver: its settings and the material table. A session's Model holds
+// one; every solver made for an episode points at it rather than keeping a copy.
+struct SolverModel {
+  SolverConfig config;
+  std::vector<Material> materials;
+};
+
 template <typename Real>
 class Solver {
  public:
   // Throws std::invalid_argument for a bad config or material.
+  explicit Solver(std::shared_ptr<const SolverModel> model);
+  // A solver with a model of its own (tests, tools).
   Solver(const SolverConfig& config, std::vector<Material> materials);
   ~Solver();
   Solver(Solver&&) noexcept;
@@ -68,8 +77,8 @@ class Solver {
 
   Particles<Real>& particles() { return particles_; }
   const Particles<Real>& particles() const { return particles_; }
-  const SolverConfig& config() const { return config_; }
-  const std::vector<Material>& materials() const { return materials_; }
+  const SolverConfig& config() const { return model_->config; }
+  const std::vector<Material>& materials() const { return model_->materials; }
 
   // Colliders; absent ones are not simulated. The knife's motion is set by the caller each step.
   void SetKnife(const KnifeGeometry& geometry);
@@ -118,8 +127,7 @@ class Solver {
   void GridToParticles(const SubstepContext& context,
                        const ContactState& contact);          // solver_g2p.cc, team
 
-  SolverConfig config_;
-  std::vector<Material> materials_;
+  std::shared_ptr<const SolverModel> model_;  // shared, never copied
   Particles<Real> particles_;
   std::unique_ptr<KnifeSdf> knife_;
   std::optional<BoxSdf> board_;

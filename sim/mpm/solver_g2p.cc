@@ -77,7 +77,7 @@ void Solver<Real>::GridToParticles(const SubstepContext& context, const ContactS
   Particles<Real>& p = particles_;
   const Grid& grid = *grid_;
   Workspace& work = *workspace_;
-  const CuttingParameters& cutting = config_.cutting;
+  const CuttingParameters& cutting = config().cutting;
   const ParticleBlocks& blocks = work.blocks;
   const std::size_t n = p.size();
   const double dt_s = context.dt_s;
@@ -87,9 +87,9 @@ void Solver<Real>::GridToParticles(const SubstepContext& context, const ContactS
   const Real dx_r = Real(dx);
   const Real inv_dx = Real(1.0 / dx);
   const Real c_scale = Real(4) * inv_dx * inv_dx;
-  const Real j_min = Real(config_.j_min);
-  const Real j_max = Real(config_.j_max);
-  const Real max_speed = Real(config_.max_particle_speed_m_s);
+  const Real j_min = Real(config().j_min);
+  const Real j_max = Real(config().j_max);
+  const Real max_speed = Real(config().max_particle_speed_m_s);
   const bool split_on = context.split_on;
   const bool damage_gate = contact.damage_gate;
   const bool tip_on = contact.tip_on;

@@ -89,7 +89,7 @@ void Solver<Real>::ScanParticles(const SubstepContext& context) {
   Particles<Real>& p = particles_;
   Workspace& work = *workspace_;
   const std::size_t n = p.size();
-  const bool sense_force = config_.effects.force_sensing;
+  const bool sense_force = config().effects.force_sensing;
 #pragma omp for schedule(dynamic, 1)
   for (std::int64_t c = 0; c < static_cast<std::int64_t>(ChunkCount(n)); ++c) {
     const std::size_t begin = c * kChunk;
@@ -130,7 +130,7 @@ void Solver<Real>::FitGridBox(const SubstepContext& context, Eigen::Vector3i* or
     throw std::runtime_error("MPM particles are too far from the origin for dx = " +
                              std::to_string(dx) + " m");
   }
-  const int margin = config_.grid_margin_cells;
+  const int margin = config().grid_margin_cells;
   Eigen::Vector3i origin, dims;
   for (int axis = 0; axis < 3; ++axis) {
     origin[axis] = static_cast<int>(std::floor(low[axis] / dx)) - margin;

@@ -23,22 +23,22 @@ template <typename Real>
 void Solver<Real>::UpdateGrid(const SubstepContext& context, ContactState* contact_out) {
   Grid& grid = *grid_;
   Workspace& work = *workspace_;
-  const Effects& effects = config_.effects;
-  const CuttingParameters& cutting = config_.cutting;
+  const Effects& effects = config().effects;
+  const CuttingParameters& cutting = config().cutting;
   const double dt_s = context.dt_s;
   const double dx = context.dx_m;
   const bool knife_on = context.knife_on;
   const bool split_on = context.split_on;
   const double blade_half_m = context.blade_half_m;
   const std::size_t nodes = grid.size();
-  const double friction = materials_.front().friction_coefficient;
+  const double friction = materials().front().friction_coefficient;
   const bool use_friction = effects.friction;
   const Eigen::AlignedBox3d blade_box =
       knife_on ? knife_->BladeBounds(dx) : Eigen::AlignedBox3d();
   const Eigen::AlignedBox3d handle_box =
       knife_on ? knife_->HandleBounds(dx) : Eigen::AlignedBox3d();
   const Eigen::AlignedBox3d board_box = board_ ? board_->Bounds(dx) : Eigen::AlignedBox3d();
-  const double damping = 1.0 / (1.0 + config_.grid_damping_per_s * dt_s);
+  const double damping = 1.0 / (1.0 + config().grid_damping_per_s * dt_s);
   const Eigen::Vector3d blade_normal =
       knife_on ? Eigen::Vector3d(knife_->motion().pose.linear().col(1)) : Eigen::Vector3d::UnitY();
 
@@ -52,10 +52,10 @@ void Solver<Real>::UpdateGrid(const SubstepContext& context, ContactState* conta
     const double m = node_mass;
     Eigen::Vector3d v = (grid_node->template head<3>() / node_mass).template cast<double>();
     // Gravity and damping; their impulses are counted for the momentum check.
-    const Eigen::Vector3d v_undamped = v + dt_s * config_.gravity_m_s2;
+    const Eigen::Vector3d v_undamped = v + dt_s * config().gravity_m_s2;
     v = v_undamped * damping;
     if (sense_force) {
-      totals->other_impulse += m * dt_s * config_.gravity_m_s2 + m * (v - v_undamped);
+      totals->other_impulse += m * dt_s * config().gravity_m_s2 + m * (v - v_undamped);
       totals->mass += m;
     }
     double approach = 0.0;
@@ -110,9 +110,9 @@ void Solver<Real>::UpdateGrid(const SubstepContext& context, ContactState* conta
       }
     }
     const double speed = v.norm();
-    if (speed > config_.max_grid_speed_m_s) {
+    if (speed > config().max_grid_speed_m_s) {
       const Eigen::Vector3d uncapped = v;
-      v *= config_.max_grid_speed_m_s / speed;
+      v *= config().max_grid_speed_m_s / speed;
       ++totals->speed_caps;
       if (sense_force) totals->other_impulse += m * (v - uncapped);
     }

@@ -22,7 +22,7 @@ template <typename Real>
 double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context, std::size_t chunk) {
   Particles<Real>& p = particles_;
   Workspace& work = *workspace_;
-  const Effects& effects = config_.effects;
+  const Effects& effects = config().effects;
   const std::size_t n = p.size();
   const double dt_s = context.dt_s;
   const Real dt = Real(dt_s);
@@ -45,7 +45,7 @@ double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context, std::s
   };
   // J2 radial return of particle q (F updated in place and stored); false when it did not flow.
   auto plastic_return = [&](std::size_t q, const Matrix3<Real>& R, Matrix3<Real>* F) {
-    const Material& material = materials_[p.material[q]];
+    const Material& material = materials()[p.material[q]];
     if (!effects.plasticity || material.yield_stress_pa <= 0.0) return false;
     const Real fraction = material.viscoplastic_relaxation_time_s > 0.0
                               ? Real(dt_s / (material.viscoplastic_relaxation_time_s + dt_s))
@@ -61,7 +61,7 @@ double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context, std::s
   auto particle_stress = [&](std::size_t q, const Matrix3<Real>& R) {
     Matrix3<Real> F;
     for (int k = 0; k < 9; ++k) F(k / 3, k % 3) = p.F[k][q];
-    const Material& material = materials_[p.material[q]];
+    const Material& material = materials()[p.material[q]];
     plastic_return(q, R, &F);
     const Real damage_scale = Real(1) - p.damage[q];
     const Lame<Real> lame{Real(material.shear_modulus_pa()) * damage_scale,
@@ -85,12 +85,12 @@ double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context, std::s
   constexpr std::size_t kStackMaterials = 8;
   MaterialConstants stack_constants[kStackMaterials];
   std::vector<MaterialConstants> heap_constants;
-  if (materials_.size() > kStackMaterials) heap_constants.resize(materials_.size());
+  if (materials().size() > kStackMaterials) heap_constants.resize(materials().size());
   MaterialConstants* const material_constants =
-      materials_.size() > kStackMaterials ? heap_constants.data() : stack_constants;
+      materials().size() > kStackMaterials ? heap_constants.data() : stack_constants;
   bool any_plastic = false;
-  for (std::size_t m = 0; m < materials_.size(); ++m) {
-    const Material& material = materials_[m];
+  for (std::size_t m = 0; m < materials().size(); ++m) {
+    const Material& material = materials()[m];
     // The same early-out as ReturnToYieldSurface (see YieldTestFraction).
     const double full_yield_strain =
         std::sqrt(2.0 / 3.0) * material.yield_stress_pa / (2.0 * material.shear_modulus_pa());

@@ -90,7 +90,8 @@ FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout)
   FoodModel food_model;
   food_model.resolution = ResolveMpmResolution(config.quality, config.mpm);
   const MpmResolution& resolution = food_model.resolution;
-  mpm::SolverConfig& solver = food_model.solver;
+  mpm::SolverModel solver_model;
+  mpm::SolverConfig& solver = solver_model.config;
   solver.dx_m = resolution.dx_m;
   solver.cfl = resolution.cfl;
   solver.gravity_m_s2 = layout.gravity_m_s2;
@@ -121,10 +122,10 @@ FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout)
     } catch (const std::invalid_argument& error) {
       throw SceneError(field + ": " + error.what());
     }
-    food_model.materials.push_back(ResolveFoodMaterial(food, field));
+    solver_model.materials.push_back(ResolveFoodMaterial(food, field));
     const Eigen::Isometry3d pose = FoodPose(food, *shape, layout, i, count);
     if (!pose.translation().allFinite()) throw SceneError(field + ".pose.position must be finite");
-    const std::size_t added = mpm::SampleFood(*shape, pose, food_model.materials.back().density_kg_m3,
+    const std::size_t added = mpm::SampleFood(*shape, pose, solver_model.materials.back().density_kg_m3,
                                               static_cast<std::uint16_t>(i), static_cast<std::uint16_t>(i), sampling,
                                               &food_model.initial_particles);
     if (added == 0) {
@@ -149,6 +150,7 @@ FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout)
   const std::size_t threads_by_size = food_model.initial_particles.size() / kParticlesPerMpmThread;
   solver.threads = static_cast<int>(std::clamp<std::size_t>(
       threads_by_size, 1, std::max(1u, std::min(2u, std::thread::hardware_concurrency()))));
+  food_model.solver = std::make_shared<const mpm::SolverModel>(std::move(solver_model));
   return food_model;
 }
 

@@ -3,12 +3,14 @@
 // when the scene declares no MPM, so a robot-only scene allocates nothing of it.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "sim/mpm/colliders.h"
 #include "sim/mpm/materials.h"
 #include "sim/mpm/particles.h"
+#include "sim/mpm/solver.h"
 #include "sim/mpm/solver_config.h"
 #include "sim/mpm/topology.h"
 #include "sim/task/object_box.h"
@@ -20,8 +22,9 @@ namespace culinarycut {
 
 struct FoodModel {
   MpmResolution resolution;
-  mpm::SolverConfig solver;
-  std::vector<mpm::Material> materials;      // materials[i] belongs to object i
+  // Solver settings and materials (materials[i] belongs to object i), shared with every episode's
+  // solver; never null in a compiled model.
+  std::shared_ptr<const mpm::SolverModel> solver;
   mpm::Particles<float> initial_particles;   // at rest, undeformed; copied into each episode
   std::vector<task::ObjectBox> objects;      // objects[i]: name "<food>_<i>", pose and extent at rest
   mpm::KnifeGeometry knife;                  // in the knife TCP frame (matches the robot's knife)

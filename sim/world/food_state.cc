@@ -4,7 +4,7 @@ namespace culinarycut {
 
 void ResetFood(const FoodModel& model, const SceneLayout& layout, FoodState* state) {
   *state = FoodState{};
-  state->solver = std::make_unique<mpm::Solver<float>>(model.solver, model.materials);
+  state->solver = std::make_unique<mpm::Solver<float>>(model.solver);
   state->solver->particles() = model.initial_particles;
   mpm::RigidMotion board;
   board.pose.translation() = layout.board_center_m;

@@ -116,8 +116,8 @@ std::shared_ptr<const Model> CompileModel(const SceneConfig& config, const Robot
     const std::uint64_t count = particles.size();
     HashBytes(&hash, &count, sizeof(count));
     for (int axis = 0; axis < 3; ++axis) HashBytes(&hash, particles.position[axis].data(), count * sizeof(float));
-    HashBytes(&hash, &model->food->solver.dx_m, sizeof(double));
-    HashBytes(&hash, &model->food->solver.cfl, sizeof(double));
+    HashBytes(&hash, &model->food->solver->config.dx_m, sizeof(double));
+    HashBytes(&hash, &model->food->solver->config.cfl, sizeof(double));
   }
   model->fingerprint = hash;
   return model;

@@ -155,3 +155,14 @@ TEST_CASE("the engine scores the scene's task: reward, success and termination c
   REQUIRE(after.food.has_value());
   CHECK(after.food->pieces.size() >= 2);
 }
+
+TEST_CASE("an episode's solver reads the model's settings and materials, never a copy", "[food_world]") {
+  const auto model = testing::DefaultModel(CucumberScene(false));
+  State a, b;
+  ResetState(*model, &a, 0, {});
+  ResetState(*model, &b, 1, {});
+  for (const State* state : {&a, &b}) {
+    CHECK(&state->food->solver->config() == &model->food->solver->config);
+    CHECK(&state->food->solver->materials() == &model->food->solver->materials);
+  }
+}
