@@ -1,8 +1,11 @@
 // culinarycut-server: a long-running simulation server. Start it once; clients connect over gRPC.
+#include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <cstdio>
+#include <future>
 #include <iostream>
+#include <thread>
 
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
@@ -58,10 +61,30 @@ int main(int argc, char** argv) {
 
   int received = 0;
   sigwait(&stop_signals, &received);
-  spdlog::info("received {}, shutting down ({} sessions open)", received == SIGINT ? "SIGINT" : "SIGTERM",
-               server->sessions().size());
-  server->Shutdown();
-  server.reset();
+  spdlog::info("received {}, shutting down ({} sessions open); a second signal stops at once",
+               received == SIGINT ? "SIGINT" : "SIGTERM", server->sessions().size());
+  // Calls in flight are cancelled at the grace deadline and a Step stops between substeps, so the
+  // shutdown ends soon after it; it runs on its own thread so that a second signal, or a call that
+  // still will not end, cannot hold the process.
+  std::promise<void> stopped;
+  std::future<void> stopped_future = stopped.get_future();
+  std::thread shutdown([&server, &stopped] {
+    server->Shutdown();
+    server.reset();
+    stopped.set_value();
+  });
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+  while (stopped_future.wait_for(std::chrono::milliseconds(20)) != std::future_status::ready) {
+    const timespec poll{0, 0};
+    const bool second_signal = sigtimedwait(&stop_signals, nullptr, &poll) > 0;
+    if (second_signal || std::chrono::steady_clock::now() > give_up) {
+      spdlog::warn("{}: exiting now without waiting for calls in flight",
+                   second_signal ? "second stop signal" : "shutdown did not end within 2 s");
+      spdlog::shutdown();
+      std::_Exit(1);
+    }
+  }
+  shutdown.join();
   spdlog::info("stopped cleanly");
   return 0;
 }

@@ -1,18 +1,35 @@
 #include "server/session_manager.h"
 
+#include <sys/random.h>
+
 #include <algorithm>
 #include <cstdio>
-#include <random>
+#include <stdexcept>
 
 #include <spdlog/spdlog.h>
 
 namespace culinarycut::server {
+namespace {
+
+// "s-" and 32 hex digits from getrandom(2): unguessable, so one client cannot find another's session.
+std::string RandomSessionId() {
+  unsigned char bytes[16];
+  std::size_t filled = 0;
+  while (filled < sizeof(bytes)) {
+    const ssize_t got = getrandom(bytes + filled, sizeof(bytes) - filled, 0);
+    if (got < 0) throw std::runtime_error("getrandom failed: no cryptographic randomness for session ids");
+    filled += static_cast<std::size_t>(got);
+  }
+  char id[3 + 2 * sizeof(bytes)] = {'s', '-'};
+  for (std::size_t i = 0; i < sizeof(bytes); ++i) std::snprintf(id + 2 + 2 * i, 3, "%02x", bytes[i]);
+  return id;
+}
+
+}  // namespace
 
 SessionManager::SessionManager(std::uint32_t max_sessions, std::chrono::duration<double> idle_timeout)
     : max_sessions_(max_sessions),
       idle_timeout_(idle_timeout),
-      // Ids only need to be unique and hard to guess; simulation randomness never comes from here.
-      id_generator_(std::random_device{}()),
       reaper_([this] { ReaperLoop(); }) {}
 
 SessionManager::~SessionManager() {
@@ -28,14 +45,11 @@ std::shared_ptr<Session> SessionManager::Create(std::shared_ptr<const Model> mod
   std::lock_guard<std::mutex> lock(mutex_);
   if (sessions_.size() >= max_sessions_) return nullptr;
   auto session = std::make_shared<Session>();
-  std::uniform_int_distribution<unsigned long long> digits(0, 0xffffffffffffULL);
-  char id[32];
   do {
-    std::snprintf(id, sizeof(id), "s-%012llx", digits(id_generator_));
-  } while (sessions_.count(id) > 0);
-  session->id = id;
+    session->id = RandomSessionId();
+  } while (sessions_.count(session->id) > 0);
   session->model = std::move(model);
-  session->last_used = std::chrono::steady_clock::now();
+  session->Touch();
   sessions_[session->id] = session;
   return session;
 }
@@ -44,7 +58,7 @@ std::shared_ptr<Session> SessionManager::Find(const std::string& id) {
   std::lock_guard<std::mutex> lock(mutex_);
   const auto it = sessions_.find(id);
   if (it == sessions_.end()) return nullptr;
-  it->second->last_used = std::chrono::steady_clock::now();
+  it->second->Touch();
   return it->second;
 }
 
@@ -57,8 +71,13 @@ std::vector<std::string> SessionManager::ReapIdle(std::chrono::steady_clock::tim
   std::vector<std::string> reaped;
   std::lock_guard<std::mutex> lock(mutex_);
   for (auto it = sessions_.begin(); it != sessions_.end();) {
-    if (now - it->second->last_used > idle_timeout_) {
+    Session& session = *it->second;
+    const std::chrono::steady_clock::time_point last_used{std::chrono::steady_clock::duration(session.last_used.load())};
+    // A session inside a call (its mutex held) is busy, however long the call takes.
+    std::unique_lock<std::mutex> busy_check(session.mutex, std::try_to_lock);
+    if (now - last_used > idle_timeout_ && busy_check.owns_lock()) {
       reaped.push_back(it->first);
+      busy_check.unlock();
       it = sessions_.erase(it);
     } else {
       ++it;

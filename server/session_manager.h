@@ -1,8 +1,10 @@
 // Owns the live sessions. Each session has its own Model, State and mutex, so sessions step in
 // parallel on gRPC's threads while calls into one session are serialised. Sessions idle longer
-// than the timeout (a client that vanished) are reclaimed by a background reaper.
+// than the timeout (a client that vanished) are reclaimed by a background reaper, never while a
+// call is in them. Ids are 128 random bits from the operating system's cryptographic source.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -10,7 +12,6 @@
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <random>
 #include <string>
 #include <thread>
 #include <vector>
@@ -29,14 +30,30 @@ struct Session {
   // Set by Tasks.StartOracle; cleared by Reset and by a StartOracle that fails. RestoreSnapshot
   // keeps it, so a restored episode replays the same oracle actions.
   std::optional<ScriptedOracle> oracle;
-  std::mutex mutex;  // held for the whole of any call into this session
-  std::chrono::steady_clock::time_point last_used;
+  std::mutex mutex;  // held for the whole of any call into this session (SessionLock)
+  // When a call last entered or left the session (steady clock, ns); atomic: the reaper reads it.
+  std::atomic<std::chrono::steady_clock::rep> last_used{0};
   // Why the last Step failed half-way (an engine exception); empty while the state is consistent.
   // Reset and RestoreSnapshot clear it; Step, Observe and SaveSnapshot refuse until then.
   std::string broken_reason;
   StageTotals timers;  // wall time per stage over the session's life (GetSessionStats)
 
   bool broken() const { return !broken_reason.empty(); }
+  void Touch() { last_used = std::chrono::steady_clock::now().time_since_epoch().count(); }
+};
+
+// Holds a session for the whole of one call and marks it used when the call leaves, so a call that
+// outlasts the idle timeout does not leave its session to be reaped the moment it returns.
+class SessionLock {
+ public:
+  explicit SessionLock(Session& session) : session_(session), lock_(session.mutex) {}
+  ~SessionLock() { session_.Touch(); }
+  SessionLock(const SessionLock&) = delete;
+  SessionLock& operator=(const SessionLock&) = delete;
+
+ private:
+  Session& session_;
+  std::lock_guard<std::mutex> lock_;
 };
 
 class SessionManager {
@@ -51,7 +68,7 @@ class SessionManager {
   // Null when no such session exists; marks the session as used now.
   std::shared_ptr<Session> Find(const std::string& id);
   bool Close(const std::string& id);
-  // Closes sessions idle for longer than the timeout; returns their ids.
+  // Closes sessions idle for longer than the timeout and not inside a call; returns their ids.
   std::vector<std::string> ReapIdle(std::chrono::steady_clock::time_point now);
 
   std::uint32_t size() const;
@@ -65,7 +82,6 @@ class SessionManager {
   const std::chrono::duration<double> idle_timeout_;
   mutable std::mutex mutex_;
   std::map<std::string, std::shared_ptr<Session>> sessions_;
-  std::mt19937_64 id_generator_;
   std::condition_variable stop_signal_;
   bool stopping_ = false;
   std::thread reaper_;

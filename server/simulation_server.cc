@@ -57,6 +57,9 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
+  // One server per port: with port reuse on, a second server on a taken port would share its
+  // incoming connections and clients would lose their sessions at random.
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   int bound_port = 0;
   builder.AddListeningPort(options.listen_address, grpc::InsecureServerCredentials(), &bound_port);
   builder.RegisterService(service_.get());
@@ -81,7 +84,7 @@ std::string SimulationServer::telemetry_endpoint() const { return telemetry_ ? t
 
 void SimulationServer::Shutdown() {
   if (server_) {
-    // Calls in flight get 1 s to finish (the longest Step, 1 Hz control at 20 kHz physics, takes ~0.5 s).
+    // Calls in flight get 1 s to finish; then they are cancelled, and a Step stops between substeps.
     server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));
     server_->Wait();
     server_.reset();

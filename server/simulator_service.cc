@@ -78,7 +78,7 @@ grpc::Status SimulatorService::CreateSession(grpc::ServerContext*, const v1::Cre
 grpc::Status SimulatorService::Reset(grpc::ServerContext*, const v1::ResetRequest* request, v1::ResetResponse* response) {
   std::shared_ptr<Session> session;
   if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
-  std::lock_guard<std::mutex> lock(session->mutex);
+  SessionLock lock(*session);
   return Guarded([&] {
     const std::uint64_t seed = request->has_seed() ? request->seed().value() : session->model->config.seed;
     ResetState(*session->model, &session->state, seed,
@@ -91,18 +91,23 @@ grpc::Status SimulatorService::Reset(grpc::ServerContext*, const v1::ResetReques
   });
 }
 
-grpc::Status SimulatorService::Step(grpc::ServerContext*, const v1::StepRequest* request, v1::StepResponse* response) {
+grpc::Status SimulatorService::Step(grpc::ServerContext* context, const v1::StepRequest* request, v1::StepResponse* response) {
   std::shared_ptr<Session> session;
   if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
-  std::lock_guard<std::mutex> lock(session->mutex);
+  SessionLock lock(*session);
   return Guarded([&] {
     const Action action = ActionFromWire(request->action());
     if (const auto error = ValidateAction(*session->model, action)) return InvalidArgument(*error);
     if (!session->state.has_been_reset()) return NotReset(*session);
     if (session->broken()) return Broken(*session);
+    // A call whose client gave up (cancelled, deadline passed, server shutting down) is not worth
+    // finishing: it is checked before the step and between its substeps, and a step it stops is
+    // rolled back, so the client's view and the session's state never part.
+    const CancelCheck abandoned = [context] { return CallAbandoned(*context); };
+    if (abandoned()) return NotApplied(*context);
     StepResult result;
     try {
-      result = culinarycut::Step(*session->model, &session->state, action);
+      result = culinarycut::Step(*session->model, &session->state, action, abandoned);
     } catch (const std::exception& error) {
       // The engine stopped half-way: the state is no longer one a simulation produced.
       session->broken_reason = std::string("Step failed at frame ") + std::to_string(session->state.frame_id) +
@@ -111,6 +116,7 @@ grpc::Status SimulatorService::Step(grpc::ServerContext*, const v1::StepRequest*
       return grpc::Status(grpc::StatusCode::INTERNAL, session->broken_reason +
                                                           "; the session is now broken: call Reset or RestoreSnapshot");
     }
+    if (result.cancelled) return NotApplied(*context);
     session->timers.Add(result.timings);
     const double render_ms = ObserveToWire(*session, response->mutable_stamp(), response->mutable_observation());
     StepResultToWire(result, render_ms, response);
@@ -121,7 +127,7 @@ grpc::Status SimulatorService::Step(grpc::ServerContext*, const v1::StepRequest*
 grpc::Status SimulatorService::Observe(grpc::ServerContext*, const v1::ObserveRequest* request, v1::ObserveResponse* response) {
   std::shared_ptr<Session> session;
   if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
-  std::lock_guard<std::mutex> lock(session->mutex);
+  SessionLock lock(*session);
   if (!session->state.has_been_reset()) return NotReset(*session);
   if (session->broken()) return Broken(*session);
   return Guarded([&] {
@@ -135,7 +141,7 @@ grpc::Status SimulatorService::CloseSession(grpc::ServerContext*, const v1::Clos
   std::shared_ptr<Session> session;
   if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
   {
-    std::lock_guard<std::mutex> lock(session->mutex);  // let a call in flight finish first
+    SessionLock lock(*session);  // let a call in flight finish first
     StampToWire(session->state.frame_id, session->state.sim_time_s, response->mutable_stamp());
   }
   sessions_->Close(session->id);
@@ -147,7 +153,7 @@ grpc::Status SimulatorService::SaveSnapshot(grpc::ServerContext*, const v1::Save
                                             v1::SaveSnapshotResponse* response) {
   std::shared_ptr<Session> session;
   if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
-  std::lock_guard<std::mutex> lock(session->mutex);
+  SessionLock lock(*session);
   if (!session->state.has_been_reset()) return NotReset(*session);
   if (session->broken()) return Broken(*session);
   return Guarded([&] {
@@ -161,7 +167,7 @@ grpc::Status SimulatorService::RestoreSnapshot(grpc::ServerContext*, const v1::R
                                                v1::RestoreSnapshotResponse* response) {
   std::shared_ptr<Session> session;
   if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
-  std::lock_guard<std::mutex> lock(session->mutex);
+  SessionLock lock(*session);
   return Guarded([&] {
     culinarycut::RestoreSnapshot(*session->model, request->snapshot(), &session->state);
     session->broken_reason.clear();
@@ -174,7 +180,7 @@ grpc::Status SimulatorService::GetSessionStats(grpc::ServerContext*, const v1::G
                                                v1::SessionStats* response) {
   std::shared_ptr<Session> session;
   if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
-  std::lock_guard<std::mutex> lock(session->mutex);
+  SessionLock lock(*session);
   SessionStatsToWire(*session->model, session->state, session->timers, response);
   return grpc::Status::OK;
 }

@@ -1,5 +1,7 @@
 #include "server/status.h"
 
+#include <chrono>
+
 #include <spdlog/spdlog.h>
 
 #include "server/wire/field_error.h"
@@ -21,6 +23,17 @@ grpc::Status Broken(const Session& session) {
   return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
                       "session " + session.id + " is broken: " + session.broken_reason +
                           "; call Reset, or RestoreSnapshot with a snapshot taken before, to go on");
+}
+
+bool CallAbandoned(const grpc::ServerContext& context) {
+  return context.IsCancelled() || std::chrono::system_clock::now() > context.deadline();
+}
+
+grpc::Status NotApplied(const grpc::ServerContext& context) {
+  const bool late = std::chrono::system_clock::now() > context.deadline();
+  return grpc::Status(late ? grpc::StatusCode::DEADLINE_EXCEEDED : grpc::StatusCode::CANCELLED,
+                      std::string(late ? "the call's deadline passed" : "the call was cancelled") +
+                          " before the step finished; nothing of it was applied");
 }
 
 grpc::Status FindSession(SessionManager* sessions, const std::string& session_id,

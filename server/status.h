@@ -22,6 +22,13 @@ grpc::Status NotReset(const Session& session);
 // FAILED_PRECONDITION for a call that needs a consistent state on a session whose last Step failed.
 grpc::Status Broken(const Session& session);
 
+// Whether the client has given up on the call: cancelled, past its deadline, or the server is
+// shutting down.
+bool CallAbandoned(const grpc::ServerContext& context);
+
+// DEADLINE_EXCEEDED or CANCELLED for a call abandoned before its work was applied.
+grpc::Status NotApplied(const grpc::ServerContext& context);
+
 // INVALID_ARGUMENT for an empty id, NOT_FOUND when the id names no live session.
 grpc::Status FindSession(SessionManager* sessions, const std::string& session_id,
                          std::shared_ptr<Session>* session);

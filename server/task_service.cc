@@ -131,7 +131,7 @@ grpc::Status TaskService::StartOracle(grpc::ServerContext*, const v1::StartOracl
   if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) {
     return status;
   }
-  std::lock_guard<std::mutex> lock(session->mutex);
+  SessionLock lock(*session);
   if (!session->state.has_been_reset()) return NotReset(*session);
   // A client that ignores a failed StartOracle must not go on running the previous plan.
   session->oracle.reset();
@@ -176,7 +176,7 @@ grpc::Status TaskService::OracleAction(grpc::ServerContext*, const v1::OracleAct
   if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) {
     return status;
   }
-  std::lock_guard<std::mutex> lock(session->mutex);
+  SessionLock lock(*session);
   if (!session->oracle) {
     return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
                         "session " + session->id +

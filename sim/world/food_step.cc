@@ -35,7 +35,8 @@ double TotalMass(const mpm::Particles<float>& particles) {
 }  // namespace
 
 FoodStepReport AdvanceFood(const FoodModel& model, const Eigen::Isometry3d& tcp_start,
-                           const Eigen::Isometry3d& tcp_end, double duration_s, FoodState* state) {
+                           const Eigen::Isometry3d& tcp_end, double duration_s, FoodState* state,
+                           const std::function<bool()>& cancelled) {
   FoodStepReport report;
   state->wrench = KnifeWrench{};
   state->knife_speed_factor = 1.0;
@@ -53,6 +54,10 @@ FoodStepReport AdvanceFood(const FoodModel& model, const Eigen::Isometry3d& tcp_
   double resistance_sum = 0.0;  // sum over substeps of k2 c-hat dt (1/(m/s)): the speed resistance
   double kinetic_energy_j = 0.0;
   for (int k = 0; k < substeps; ++k) {
+    if (cancelled && cancelled()) {
+      report.cancelled = true;
+      return report;
+    }
     motion.pose = Interpolate(tcp_start, tcp_end, (k + 0.5) / substeps);
     solver.SetKnifeMotion(motion);
     const mpm::SubstepDiagnostics d = solver.Substep(dt_s);

@@ -3,6 +3,8 @@
 // of the step to its pose at the end; the blade and handle impulses give the wrench on the knife.
 #pragma once
 
+#include <functional>
+
 #include <Eigen/Geometry>
 
 #include "sim/world/food_model.h"
@@ -14,11 +16,14 @@ struct FoodStepReport {
   int substeps = 0;        // MPM substeps run (0 while asleep)
   bool contact = false;    // the knife touched the food during the step
   double max_c_hat = 0.0;  // largest contact strength of the substeps
+  bool cancelled = false;  // the cancel check stopped the step between substeps (state half-stepped)
 };
 
 // Advances the food by `duration_s` (one physics step). The wrench and the speed resistance are
-// left in `state` for the robot's next physics step.
+// left in `state` for the robot's next physics step. `cancelled`, when given, is asked between
+// MPM substeps; if it says stop, the food is left half-stepped and the report says so.
 FoodStepReport AdvanceFood(const FoodModel& model, const Eigen::Isometry3d& tcp_start,
-                           const Eigen::Isometry3d& tcp_end, double duration_s, FoodState* state);
+                           const Eigen::Isometry3d& tcp_end, double duration_s, FoodState* state,
+                           const std::function<bool()>& cancelled = {});
 
 }  // namespace culinarycut

@@ -2,6 +2,7 @@
 
 #include "sim/robot/kinematics.h"
 #include "sim/world/food_step.h"
+#include "sim/world/snapshot.h"
 
 namespace culinarycut {
 namespace {
@@ -82,9 +83,19 @@ void AdvanceClock(const Model& model, State* state, StepResult* result) {
 
 }  // namespace
 
-StepResult Step(const Model& model, State* state, const Action& action) {
+StepResult Step(const Model& model, State* state, const Action& action, const CancelCheck& cancelled) {
   const auto start = std::chrono::steady_clock::now();
+  // The state before the step, to put back if the step is cancelled half-way.
+  const std::string before = cancelled ? SaveSnapshot(model, *state) : std::string();
   StepResult result;
+  // Puts the state back as it was and marks the result, when the cancel check says stop.
+  auto stop_here = [&] {
+    if (!cancelled || !cancelled()) return false;
+    RestoreSnapshot(model, before, state);
+    result = StepResult{};
+    result.cancelled = true;
+    return true;
+  };
   {
     StageClock clock(&result.timings, Stage::kControl);
     ApplyAction(model, action, state, &result);
@@ -94,6 +105,7 @@ StepResult Step(const Model& model, State* state, const Action& action) {
   // The knife's pose at the start of each physics step is the pose at the end of the one before.
   Eigen::Isometry3d tcp_start = food ? TcpInWorld(model, state->physics->JointPositions()) : Eigen::Isometry3d::Identity();
   for (int i = 0; i < model.substeps_per_control_step; ++i) {
+    if (stop_here()) return result;
     {
       StageClock clock(&result.timings, Stage::kPhysics);
       AdvanceRobot(model, state);
@@ -101,7 +113,9 @@ StepResult Step(const Model& model, State* state, const Action& action) {
     if (!food) continue;
     StageClock clock(&result.timings, Stage::kMpm);
     const Eigen::Isometry3d tcp_end = TcpInWorld(model, state->physics->JointPositions());
-    const FoodStepReport food_report = AdvanceFood(*model.food, tcp_start, tcp_end, model.physics_timestep_s, food);
+    const FoodStepReport food_report =
+        AdvanceFood(*model.food, tcp_start, tcp_end, model.physics_timestep_s, food, cancelled);
+    if (food_report.cancelled && stop_here()) return result;
     tcp_start = tcp_end;
     result.mpm_substeps += food_report.substeps;
     result.knife_contact = result.knife_contact || food_report.contact;

@@ -3,6 +3,7 @@
 // Reward, success and termination are the engine's, so a C++ user of sim/world gets them too.
 #pragma once
 
+#include <functional>
 #include <optional>
 
 #include "sim/core/stage_timer.h"
@@ -28,15 +29,21 @@ struct StepResult {
   int mpm_substeps = 0;           // MPM substeps (0 while the food sleeps or without food)
   bool knife_contact = false;     // the knife touched the food during this step
   bool first_contact = false;     // ... for the first time this episode (the contact phase begins)
+  bool cancelled = false;         // the cancel check said stop: nothing of this step was applied
 
   // Wall time of each stage (ms); never part of the simulation, so never compared for determinism.
   StageTimes timings;
   double wall_time_ms = 0.0;      // the whole step
 };
 
+// Asked between physics substeps and between MPM substeps; returning true stops the step.
+using CancelCheck = std::function<bool()>;
+
 // Preconditions: state has been reset and ValidateAction(model, action) found nothing.
+// With a cancel check, a step it stops leaves the state exactly as before the call
+// (StepResult::cancelled; the state is copied first, which only cancellable steps pay for).
 // Throws std::runtime_error when the food's MPM state runs away (NaN positions, a grid blown up);
 // the state is then half-stepped and must be reset or restored before it is stepped again.
-StepResult Step(const Model& model, State* state, const Action& action);
+StepResult Step(const Model& model, State* state, const Action& action, const CancelCheck& cancelled = {});
 
 }  // namespace culinarycut

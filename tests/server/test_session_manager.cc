@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 
+#include <set>
+
 #include "server/session_manager.h"
 #include "support/robot_fixture.h"
 
@@ -27,9 +29,38 @@ TEST_CASE("idle sessions are reaped, used ones are kept", "[sessions]") {
   const auto idle = sessions.Create(model);
   const auto busy = sessions.Create(model);
   const auto later = std::chrono::steady_clock::now() + std::chrono::seconds(11);
-  busy->last_used = later;  // as if called just before `later`
+  busy->last_used = later.time_since_epoch().count();  // as if called just before `later`
   const std::vector<std::string> reaped = sessions.ReapIdle(later);
   REQUIRE(reaped.size() == 1);
   CHECK(reaped[0] == idle->id);
   CHECK(sessions.Find(busy->id));
+}
+
+TEST_CASE("a session inside a call is never reaped, however long the call", "[sessions]") {
+  SessionManager sessions(4, std::chrono::seconds(10));
+  const auto model = testing::DefaultModel();
+  const auto stepping = sessions.Create(model);
+  const auto later = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  {
+    SessionLock call(*stepping);  // a Step in flight for a minute
+    CHECK(sessions.ReapIdle(later).empty());
+  }
+  // The call just ended: the session counts as used now, so it is not reaped at the call's end.
+  CHECK(sessions.ReapIdle(std::chrono::steady_clock::now() + std::chrono::seconds(5)).empty());
+  CHECK(sessions.ReapIdle(later + std::chrono::seconds(60)).size() == 1);
+}
+
+TEST_CASE("session ids carry 128 random bits", "[sessions]") {
+  SessionManager sessions(64, std::chrono::seconds(10));
+  const auto model = testing::DefaultModel();
+  std::set<std::string> ids;
+  for (int i = 0; i < 64; ++i) {
+    const auto session = sessions.Create(model);
+    REQUIRE(session);
+    CHECK(session->id.size() == 2 + 32);
+    CHECK(session->id.rfind("s-", 0) == 0);
+    CHECK(session->id.find_first_not_of("0123456789abcdef", 2) == std::string::npos);
+    ids.insert(session->id);
+  }
+  CHECK(ids.size() == 64);
 }

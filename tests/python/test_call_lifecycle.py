@@ -1,0 +1,98 @@
+"""Calls that the client abandons, servers that stop, ports that are taken, ids that are absurd: the
+server finishes nothing nobody waits for, exits promptly, and never echoes a huge input back."""
+from __future__ import annotations
+
+import re
+import signal
+import subprocess
+import threading
+import time
+
+import numpy as np
+import pytest
+
+from culinarycut import Client
+from culinarycut.errors import CulinaryCutError, DeadlineExceeded, NotFound
+from culinarycut.launch import ServerProcess, server_binary
+from culinarycut.policies import ScriptedOracle
+
+# A draft cucumber with a CFL factor 100 times below the preset's: every control step with the
+# knife near the food runs thousands of MPM substeps (seconds of work), while the approach is fast.
+SLOW_SCENE = {"quality": "draft", "mpm": {"cfl": 0.003},
+              "effects": {"mpm": True, "damage": True, "friction": True, "topology": True, "force_sensing": True},
+              "objects": [{"food": "cucumber"}]}
+
+
+def approach_until_slow(address: str, session: str, deadline_s: float) -> int:
+    """Steps the oracle with a `deadline_s` per call until a step misses it; returns the steps applied."""
+    with Client(address, timeout_s=30.0) as planner, Client(address, timeout_s=deadline_s) as hurried:
+        oracle = ScriptedOracle(planner, session)
+        oracle.reset("cut the cucumber in the middle")
+        applied = 0
+        while not oracle.finished:
+            mode, values = oracle.act()
+            try:
+                hurried.step(session, mode, values)
+            except DeadlineExceeded:
+                return applied
+            applied += 1
+    raise AssertionError("no step was slow: the knife never came near the food")
+
+
+def test_a_step_past_its_deadline_is_not_applied():
+    with ServerProcess(server_binary(), max_sessions=2) as server, Client(server.address, timeout_s=30.0) as client:
+        session = client.create_session(SLOW_SCENE).session_id
+        client.reset(session, seed=0)
+        applied = approach_until_slow(server.address, session, deadline_s=1.0)
+        assert applied > 0
+        # The abandoned step was rolled back: the state is the one after the last applied step.
+        time.sleep(0.2)
+        assert client.observe(session).stamp.frame_id == applied
+
+
+def test_sigterm_during_a_long_step_exits_within_2_s():
+    server = ServerProcess(server_binary(), max_sessions=2)
+    try:
+        with Client(server.address, timeout_s=30.0) as client:
+            session = client.create_session(SLOW_SCENE).session_id
+            client.reset(session, seed=0)
+            approach_until_slow(server.address, session, deadline_s=1.0)
+            # The same slow step again, now without a short deadline, on a thread of its own.
+            errors: list[Exception] = []
+
+            def long_step():
+                try:
+                    client.step(session, "pd_joint_delta_pos", np.zeros(7))
+                except CulinaryCutError as err:  # the server goes away mid-call
+                    errors.append(err)
+
+            stepping = threading.Thread(target=long_step)
+            stepping.start()
+            time.sleep(0.5)
+            started = time.monotonic()
+            server.proc.send_signal(signal.SIGTERM)
+            code = server.proc.wait(timeout=10)
+            elapsed = time.monotonic() - started
+            stepping.join(timeout=10)
+        assert elapsed < 2.0, f"exit took {elapsed:.2f} s; output:\n{server.output()}"
+        assert code == 0, server.output()
+    finally:
+        server.kill()
+
+
+def test_a_second_server_on_a_taken_port_fails_at_start():
+    with ServerProcess(server_binary(), max_sessions=1) as first:
+        port = first.address.rsplit(":", 1)[1]
+        second = subprocess.run([str(server_binary()), "--listen", f"127.0.0.1:{port}", "--telemetry", ""],
+                                capture_output=True, text=True, timeout=30)
+        assert second.returncode == 2
+        assert "cannot listen on 127.0.0.1:" + port in second.stderr and "in use" in second.stderr
+        with Client(first.address) as client:  # the first one still serves
+            assert client.server_info().version
+
+
+def test_an_absurd_session_id_gets_a_short_answer(client):
+    with pytest.raises(NotFound) as missing:
+        client.step("s-" + "x" * 100_000, "pd_joint_delta_pos", np.zeros(7))
+    assert len(missing.value.details) < 300
+    assert re.search(r"no session 's-x+\.\.\.'", missing.value.details)
