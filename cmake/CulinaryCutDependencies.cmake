@@ -9,6 +9,7 @@ find_package(nlohmann_json 3 CONFIG REQUIRED)
 find_package(cppzmq CONFIG REQUIRED)
 find_package(spdlog CONFIG REQUIRED)
 find_package(CLI11 CONFIG REQUIRED)
+find_package(OpenSSL REQUIRED)             # HMAC of snapshots
 
 # Bullet in double precision: Debian ships -float64 builds; the define must match them.
 find_path(BULLET_INCLUDE_DIR btBulletDynamicsCommon.h PATH_SUFFIXES bullet REQUIRED)

@@ -11,7 +11,7 @@ PACKAGES=(
   # engine
   libeigen3-dev libbullet-dev liburdfdom-dev nlohmann-json3-dev
   # server
-  libzmq3-dev cppzmq-dev libspdlog-dev libfmt-dev libcli11-dev
+  libzmq3-dev cppzmq-dev libspdlog-dev libfmt-dev libcli11-dev libssl-dev
   # renderer: headless EGL (Mesa llvmpipe without a GPU), image and video encoding, mesh files
   libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri libopencv-dev libassimp-dev
   # tests and benchmarks

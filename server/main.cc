@@ -30,6 +30,9 @@ int main(int argc, char** argv) {
   app.add_option("--idle-timeout", options.idle_timeout_s, "seconds after which an untouched session is closed")
       ->capture_default_str()
       ->check(CLI::Range(0.01, 1e7));
+  app.add_option("--snapshot-key-file", options.snapshot_key_file,
+                 "file of >= 32 secret bytes that authenticates snapshots; servers sharing it accept each "
+                 "other's snapshots (default: a random key per process)");
   app.add_option("--robot-urdf", options.robot_urdf_path, "robot description (default: the shipped Panda with knife)");
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")
       ->capture_default_str()

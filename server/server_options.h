@@ -12,6 +12,7 @@ struct ServerOptions {
   std::uint32_t max_sessions = 16;
   double idle_timeout_s = 300.0;                     // sessions untouched this long are closed
   std::string robot_urdf_path;                       // empty: the shipped Panda with knife
+  std::string snapshot_key_file;                     // empty: a random key, snapshots stay with this process
 };
 
 }  // namespace culinarycut::server

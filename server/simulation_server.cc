@@ -51,7 +51,8 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   render::RendererOptions render_options;
   render_options.robot_urdf_path = urdf;
   renderer_ = std::make_unique<SharedRenderer>(render_options);
-  service_ = std::make_unique<SimulatorService>(std::move(robot), sessions_.get(), telemetry_.get(), renderer_.get());
+  service_ = std::make_unique<SimulatorService>(std::move(robot), sessions_.get(), telemetry_.get(), renderer_.get(),
+                                                SnapshotSeal(options.snapshot_key_file));
   task_service_ = std::make_unique<TaskService>(sessions_.get());
 
   grpc::EnableDefaultHealthCheckService(true);

@@ -13,8 +13,8 @@
 
 namespace culinarycut::server {
 SimulatorService::SimulatorService(RobotDescription robot, SessionManager* sessions, TelemetryPublisher* telemetry,
-                                   SharedRenderer* renderer)
-    : robot_(std::move(robot)), sessions_(sessions), telemetry_(telemetry), renderer_(renderer) {}
+                                   SharedRenderer* renderer, SnapshotSeal seal)
+    : robot_(std::move(robot)), sessions_(sessions), telemetry_(telemetry), renderer_(renderer), seal_(std::move(seal)) {}
 
 double SimulatorService::ObserveToWire(Session& session, v1::FrameStamp* stamp, v1::Observation* wire) {
   render::Renderer* renderer = session.model->cameras.empty() ? nullptr : &renderer_->Get();
@@ -157,7 +157,7 @@ grpc::Status SimulatorService::SaveSnapshot(grpc::ServerContext*, const v1::Save
   if (!session->state.has_been_reset()) return NotReset(*session);
   if (session->broken()) return Broken(*session);
   return Guarded([&] {
-    response->set_snapshot(culinarycut::SaveSnapshot(*session->model, session->state));
+    response->set_snapshot(seal_.Seal(culinarycut::SaveSnapshot(*session->model, session->state)));
     StampToWire(session->state.frame_id, session->state.sim_time_s, response->mutable_stamp());
     return grpc::Status::OK;
   });
@@ -169,7 +169,7 @@ grpc::Status SimulatorService::RestoreSnapshot(grpc::ServerContext*, const v1::R
   if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
   SessionLock lock(*session);
   return Guarded([&] {
-    culinarycut::RestoreSnapshot(*session->model, request->snapshot(), &session->state);
+    culinarycut::RestoreSnapshot(*session->model, seal_.Open(request->snapshot()), &session->state);
     session->broken_reason.clear();
     ObserveToWire(*session, response->mutable_stamp(), response->mutable_observation());
     return grpc::Status::OK;

@@ -8,6 +8,7 @@
 #include "culinarycut/v1/simulator.grpc.pb.h"
 #include "server/session_manager.h"
 #include "server/shared_renderer.h"
+#include "server/snapshot_seal.h"
 #include "server/telemetry_publisher.h"
 #include "sim/robot/robot_description.h"
 
@@ -17,7 +18,7 @@ class SimulatorService final : public v1::Simulator::Service {
  public:
   // `telemetry` may be null (telemetry off); `renderer` starts only when a scene declares cameras.
   SimulatorService(RobotDescription robot, SessionManager* sessions, TelemetryPublisher* telemetry,
-                   SharedRenderer* renderer);
+                   SharedRenderer* renderer, SnapshotSeal seal);
 
   grpc::Status GetServerInfo(grpc::ServerContext*, const v1::GetServerInfoRequest*, v1::ServerInfo*) override;
   grpc::Status CreateSession(grpc::ServerContext*, const v1::CreateSessionRequest*, v1::CreateSessionResponse*) override;
@@ -39,6 +40,7 @@ class SimulatorService final : public v1::Simulator::Service {
   SessionManager* sessions_;
   TelemetryPublisher* telemetry_;
   SharedRenderer* renderer_;
+  const SnapshotSeal seal_;
 };
 
 }  // namespace culinarycut::server

@@ -71,13 +71,83 @@ class SnapshotReader {
   ByteReader* reader_;
 };
 
-// Refuses values no simulation could have produced, so a corrupted snapshot cannot poison a session.
+// Particles further than this from the world origin (m) are outside any scene: the table is 1.2 m
+// by 1.6 m and the robot reaches under 1 m.
+constexpr float kSceneHalfExtentM = 4.0f;
+
+void Require(bool ok, const std::string& field, const std::string& problem) {
+  if (!ok) throw SnapshotError("corrupt: " + field + " " + problem);
+}
+
+template <typename T>
+bool AllFinite(const std::vector<T>& values) {
+  for (const T value : values) {
+    if (!std::isfinite(value)) return false;
+  }
+  return true;
+}
+
+// Refuses values no simulation could have produced, so a crafted snapshot cannot poison a session:
+// every index in range, every number finite and physical, every counter consistent.
+void CheckFood(const Model& model, const State& state) {
+  const FoodState& food = *state.food;
+  const mpm::Particles<float>& p = food.solver->particles();
+  const std::size_t materials = model.food->solver->materials.size();
+  const std::size_t objects = model.food->objects.size();
+  for (int axis = 0; axis < 3; ++axis) {
+    for (const float x : p.position[axis]) {
+      Require(std::isfinite(x) && std::abs(x) <= kSceneHalfExtentM, "food.position",
+              "holds a particle outside the scene (|x| > 4 m, or not finite)");
+    }
+    for (const float v : p.velocity[axis]) {
+      Require(std::isfinite(v) && std::abs(v) <= 2 * model.food->solver->config.max_particle_speed_m_s,
+              "food.velocity", "holds a speed above the solver's cap, or not finite");
+    }
+  }
+  for (int k = 0; k < 9; ++k) {
+    Require(AllFinite(p.F[k]), "food.F", "is not finite");
+    Require(AllFinite(p.C[k]), "food.C", "is not finite");
+  }
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    Require(std::isfinite(p.mass[i]) && p.mass[i] > 0, "food.mass", "must be finite and positive");
+    Require(std::isfinite(p.volume[i]) && p.volume[i] > 0, "food.volume", "must be finite and positive");
+    Require(std::isfinite(p.plastic_strain[i]) && p.plastic_strain[i] >= 0, "food.plastic_strain",
+            "must be finite and >= 0");
+    Require(p.damage[i] >= 0 && p.damage[i] <= 1, "food.damage", "must lie in [0, 1]");
+    Require(p.piece[i] >= -1, "food.piece", "must be a label >= -1");
+    Require(p.blade_side[i] >= -1 && p.blade_side[i] <= 1, "food.blade_side", "must be -1, 0 or 1");
+    Require(p.material[i] < materials, "food.material", "indexes no material of the scene");
+    Require(p.object[i] < objects, "food.object", "indexes no food object of the scene");
+  }
+  Require(food.knife_speed_factor > 0.0 && food.knife_speed_factor <= 1.0, "food.knife_speed_factor",
+          "must lie in (0, 1]");
+  for (const Eigen::Vector3d* v : {&food.wrench.force_n, &food.wrench.torque_nm, &food.control_step_wrench.force_n,
+                                   &food.control_step_wrench.torque_nm}) {
+    Require(v->allFinite(), "food.wrench", "is not finite");
+  }
+  Require(std::isfinite(food.quiet_time_s) && food.quiet_time_s >= 0, "food.quiet_time_s", "must be finite and >= 0");
+  Require(std::isfinite(food.mpm_time_s) && food.mpm_time_s >= 0, "food.mpm_time_s", "must be finite and >= 0");
+  Require(food.substeps_last_step >= 0, "food.substeps_last_step", "must be >= 0");
+  Require(!food.first_contact_frame || *food.first_contact_frame <= state.frame_id, "food.first_contact_frame",
+          "lies after the snapshot's frame");
+  for (const mpm::Piece& piece : food.pieces) {
+    Require(piece.object < objects, "food.pieces", "names no food object of the scene");
+    Require(piece.particle_count <= p.size(), "food.pieces", "holds more particles than the food");
+    Require(std::isfinite(piece.volume_m3) && std::isfinite(piece.mass_kg) && piece.centroid_m.allFinite() &&
+                piece.bounds_m.min().allFinite() && piece.bounds_m.max().allFinite(),
+            "food.pieces", "holds a non-finite value");
+  }
+}
+
 void CheckPlausible(const Model& model, const State& state) {
+  // Frames and steps advance together from Reset, and sim time is their count times the period.
+  Require(state.episode_steps == state.frame_id, "episode_steps", "differs from frame_id");
+  Require(state.sim_time_s == static_cast<double>(state.episode_steps) * model.control_timestep_s, "sim_time_s",
+          "is not episode_steps times the control period");
   // Contact can push a joint slightly past its limit; anything further is corruption.
   constexpr double kLimitToleranceRad = 0.1;
-  if (!std::isfinite(state.sim_time_s) || state.sim_time_s < 0) throw SnapshotError("corrupt: bad sim time");
-  const Eigen::VectorXd q = state.physics->JointPositions();
-  const Eigen::VectorXd qdot = state.physics->JointVelocities();
+  const JointVector q = state.physics->JointPositions();
+  const JointVector qdot = state.physics->JointVelocities();
   for (int i = 0; i < model.robot.dof(); ++i) {
     const JointLimits& limits = model.robot.limits[i];
     auto near_limits = [&limits](double angle_rad) {
@@ -89,20 +159,7 @@ void CheckPlausible(const Model& model, const State& state) {
       throw SnapshotError("corrupt: joint " + std::to_string(i) + " holds a non-finite or impossible value");
     }
   }
-  if (!state.food) return;
-  const FoodState& food = *state.food;
-  for (int axis = 0; axis < 3; ++axis) {
-    for (const float x : food.solver->particles().position[axis]) {
-      if (!std::isfinite(x)) throw SnapshotError("corrupt: a non-finite particle position");
-    }
-  }
-  if (!(food.knife_speed_factor > 0.0 && food.knife_speed_factor <= 1.0)) {
-    throw SnapshotError("corrupt: knife speed factor outside (0, 1]");
-  }
-  for (const Eigen::Vector3d* v : {&food.wrench.force_n, &food.wrench.torque_nm, &food.control_step_wrench.force_n,
-                                   &food.control_step_wrench.torque_nm}) {
-    if (!v->allFinite()) throw SnapshotError("corrupt: a non-finite food value");
-  }
+  if (state.food) CheckFood(model, state);
 }
 
 std::string Serialize(const Model& model, const State& state,
