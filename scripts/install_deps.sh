@@ -27,7 +27,7 @@ if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 
 install_python_env() {
   # The project virtualenv: Debian's Python packages stay visible (--system-site-packages); PyPI adds
-  # only the pinned packages Debian lacks or has too old. Reinstalls only when the pins change.
+  # only the pinned packages Debian lacks or has too old (reinstalled only when the pins change).
   local venv="$root/.venv"
   local pins="$root/requirements/pypi.txt"
   if [ ! -x "$venv/bin/python" ]; then
@@ -38,6 +38,10 @@ install_python_env() {
     "$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r "$pins"
     cp "$pins" "$venv/.installed-pins"
   fi
+  # The culinarycut package itself, editable: its build generates the gRPC stubs with Debian's grpc_tools
+  # (--no-build-isolation), which match Debian's protobuf and grpcio; --no-index: those come from Debian.
+  "$venv/bin/python" -m pip install --quiet --disable-pip-version-check --no-build-isolation --no-index \
+    -e "$root/client/python"
 }
 
 missing=()
