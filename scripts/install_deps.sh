@@ -27,7 +27,7 @@ if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 
 install_python_env() {
   # The project virtualenv: Debian's Python packages stay visible (--system-site-packages); PyPI adds
-  # only the pinned packages Debian lacks or has too old (reinstalled only when the pins change).
+  # only the pinned packages Debian lacks or has too old. Reinstalls only when the pins change.
   local venv="$root/.venv"
   local pins="$root/requirements/pypi.txt"
   if [ ! -x "$venv/bin/python" ]; then
