@@ -1,10 +1,11 @@
 # CulinaryCut server and clients on Debian 12 (bookworm).
 FROM debian:bookworm
 WORKDIR /opt/culinarycut
-COPY scripts/install_deps.sh scripts/install_deps.sh
-RUN bash scripts/install_deps.sh && rm -rf /var/lib/apt/lists/*
+# install_deps.sh needs the pins and the Python package (it installs it into .venv), so the sources come first.
 COPY . .
+RUN bash scripts/install_deps.sh && rm -rf /var/lib/apt/lists/*
 RUN bash scripts/build.sh
-ENV PYTHONPATH=/opt/culinarycut/client/python
+# The project virtualenv: `culinarycut` (the CLI) and its Python.
+ENV PATH=/opt/culinarycut/.venv/bin:$PATH
 EXPOSE 50051 5556
 CMD ["build/server/culinarycut-server", "--listen", "0.0.0.0:50051", "--telemetry", "tcp://0.0.0.0:5556"]

@@ -1,8 +1,8 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """How pd_ee_pose converges: random knife poses above the board, each from the ready pose, driven
 through the real server. Writes docs/benchmarks/ee_pose_tracking.md and a plot in docs/images/.
 
-Usage: /usr/bin/python3 bench/ee_pose_tracking.py [--targets 24] [--seed 0]
+Usage: .venv/bin/python bench/ee_pose_tracking.py [--targets 24] [--seed 0]
 Needs python3-matplotlib (Debian) for the plot.
 """
 from __future__ import annotations
@@ -13,15 +13,13 @@ import time
 from pathlib import Path
 
 import numpy as np
+from culinarycut import Client
+from culinarycut.geometry import quat_angle, quat_from_axis_angle, quat_mul
+from culinarycut.launch import ServerProcess
+
+from step_latency import machine_info  # bench/, this script's folder
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "client" / "python"))
-sys.path.insert(0, str(ROOT / "bench"))
-
-from culinarycut import Client  # noqa: E402
-from culinarycut.geometry import quat_angle, quat_from_axis_angle, quat_mul  # noqa: E402
-from culinarycut.launch import ServerProcess  # noqa: E402
-from step_latency import machine_info  # noqa: E402
 
 KNIFE_DOWN = np.array([0.0, 1.0, 0.0, 0.0])   # (w, x, y, z): TCP z axis pointing down
 POSITION_TOLERANCE_M = 1e-3

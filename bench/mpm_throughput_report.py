@@ -1,9 +1,9 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Runs bench_mpm_throughput and writes docs/benchmarks/mpm_throughput.md and .json: particle-steps
 per second of the full MPM cutting substep at 10k / 100k / 1M particles on 1 and 2 threads, the
 P2G / grid / G2P split, and a roofline estimate from the machine's measured bandwidth and FMA rate.
 
-Usage: /usr/bin/python3 bench/mpm_throughput_report.py [--binary build/bench/bench_mpm_throughput]
+Usage: .venv/bin/python bench/mpm_throughput_report.py [--binary build/bench/bench_mpm_throughput]
 """
 from __future__ import annotations
 

@@ -1,8 +1,8 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Plots a cc-cut run: the force of the food on the blade against time, with the knife height,
 the contact strength c-hat and the damaged-particle count (docs/images/mpm_cut_force.png).
 
-Usage: /usr/bin/python3 bench/plot_cut_force.py OUT_DIR_OF_CC_CUT [--image docs/images/mpm_cut_force.png]
+Usage: .venv/bin/python bench/plot_cut_force.py OUT_DIR_OF_CC_CUT [--image docs/images/mpm_cut_force.png]
 (first: build/tools/cc_cut/cc-cut tools/cc_cut/examples/cucumber_middle.json --out OUT_DIR_OF_CC_CUT)
 Needs python3-matplotlib (Debian).
 """

@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Planned and executed knife trajectories for every cut style, like the paper's supplement figure
 "Trajectory visualization": the scripted oracle runs each task on a real server (robot only, with a
 cucumber-sized box as the object) and the planned TCP path is drawn with the one the robot followed.
@@ -6,7 +6,7 @@ cucumber-sized box as the object) and the planned TCP path is drawn with the one
 Writes docs/images/cut_trajectories.png and docs/benchmarks/oracle_tracking.md (how closely the
 knife followed each plan, and how the resulting blade plane scores).
 
-Usage: /usr/bin/python3 bench/plot_cut_trajectories.py [--control-mode pd_ee_pose] [--seed 0]
+Usage: .venv/bin/python bench/plot_cut_trajectories.py [--control-mode pd_ee_pose] [--seed 0]
 Needs python3-matplotlib (Debian).
 """
 from __future__ import annotations
@@ -16,17 +16,15 @@ import sys
 from pathlib import Path
 
 import numpy as np
+from culinarycut import Client
+from culinarycut.cli_tasks import DEFAULT_OBJECT
+from culinarycut.geometry import quat_rotate
+from culinarycut.launch import ServerProcess
+from culinarycut.policies import ScriptedOracle
+
+from step_latency import machine_info  # bench/, this script's folder
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "client" / "python"))
-sys.path.insert(0, str(ROOT / "bench"))
-
-from culinarycut import Client  # noqa: E402
-from culinarycut.cli_tasks import DEFAULT_OBJECT  # noqa: E402
-from culinarycut.geometry import quat_rotate  # noqa: E402
-from culinarycut.launch import ServerProcess  # noqa: E402
-from culinarycut.policies import ScriptedOracle  # noqa: E402
-from step_latency import machine_info  # noqa: E402
 
 TASKS = [  # (panel title, instruction) in the order of the paper's figure, plus guillotine
     ("(A) Normal + Middle", "cut the cucumber at the middle"),

@@ -1,10 +1,10 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Runs bench_render_throughput and writes docs/benchmarks/render_throughput.md and .json:
 three-camera sets per second (front, left, right) with the robot, the board, the scene and a
 100k-particle cucumber, food surface extraction included, at 224 x 224 and 640 x 480, and the
 split of one set into surface extraction, drawing and read-back.
 
-Usage: /usr/bin/python3 bench/render_throughput_report.py [--binary build/bench/bench_render_throughput]
+Usage: .venv/bin/python bench/render_throughput_report.py [--binary build/bench/bench_render_throughput]
 """
 from __future__ import annotations
 
@@ -100,7 +100,7 @@ def main() -> int:
         "  `glFinish`; *read-back*: `glReadPixels` of the requested channels and the row flips.",
         "- The target applies to 224 x 224 RGB on llvmpipe with 2 cores; 640 x 480 and the extra",
         "  channels are reported for reference. Re-run: build `bench_render_throughput`, then",
-        "  `/usr/bin/python3 bench/render_throughput_report.py --binary <build>/bench/bench_render_throughput`.",
+        "  `.venv/bin/python bench/render_throughput_report.py --binary <build>/bench/bench_render_throughput`.",
         "",
     ]
     args.out.parent.mkdir(parents=True, exist_ok=True)

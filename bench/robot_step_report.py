@@ -1,8 +1,8 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Runs the robot-only step benchmarks (C++ and Python clients, 20 Hz and 500 Hz control) in one
 go on this machine and writes docs/benchmarks/robot_step.md and robot_step.json.
 
-Usage: /usr/bin/python3 bench/robot_step_report.py [--build build] [--steps 3000]
+Usage: .venv/bin/python bench/robot_step_report.py [--build build] [--steps 3000]
 """
 from __future__ import annotations
 
@@ -14,11 +14,10 @@ import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "bench"))
-from step_latency import machine_info  # noqa: E402
+from step_latency import machine_info  # bench/, this script's folder
 
-TARGET_P50_MS = 0.3  # issue #2: p50 round trip of a robot-only step on loopback
+ROOT = Path(__file__).resolve().parents[1]
+TARGET_P50_MS = 0.3  # the target p50 round trip of a robot-only step on loopback
 CONTROL_RATES_HZ = (20.0, 500.0)
 
 
@@ -97,7 +96,7 @@ def main() -> int:
         f"the transport alone (Observe) is {default['cpp_observe_round_trip_p50_ms'] / default['cpp_round_trip_ms']['p50']:.0%}"
         " of the round trip.",
         "",
-        "Raw numbers: [robot_step.json](robot_step.json). Reproduce: `scripts/build.sh && /usr/bin/python3 "
+        "Raw numbers: [robot_step.json](robot_step.json). Reproduce: `scripts/build.sh && .venv/bin/python "
         "bench/robot_step_report.py`.",
     ]
     (docs / "robot_step.md").write_text("\n".join(lines) + "\n")

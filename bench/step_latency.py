@@ -10,14 +10,12 @@ import sys
 import time
 from pathlib import Path
 
+import grpc
 import numpy as np
+from culinarycut import Client
+from culinarycut.errors import CulinaryCutError
+from culinarycut.launch import ServerProcess, server_binary
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "client" / "python"))
-
-import grpc  # noqa: E402
-from culinarycut import Client  # noqa: E402
-from culinarycut.errors import CulinaryCutError  # noqa: E402
-from culinarycut.launch import ServerProcess, server_binary  # noqa: E402
 
 def robot_only_scene(control_hz: float) -> dict:
     """The default scene (robot and knife, no food) at a given control rate; physics stays at 500 Hz."""

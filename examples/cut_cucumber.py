@@ -1,9 +1,10 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """One cut, end to end: the scripted oracle cuts a cucumber through the server; writes the three
-camera videos, a force-time plot and the scored outcome.
+camera videos, a force-time plot and the scored outcome. Needs the culinarycut package (the project's
+.venv has it; see README).
 
-    /usr/bin/python3 examples/cut_cucumber.py                        # starts its own server
-    /usr/bin/python3 examples/cut_cucumber.py --address 127.0.0.1:50051 --quality standard
+    .venv/bin/python examples/cut_cucumber.py                        # starts its own server
+    .venv/bin/python examples/cut_cucumber.py --address 127.0.0.1:50051 --quality standard
 
 Outputs in --out (default out/cut_cucumber): front.mp4, left.mp4, right.mp4, force.png and
 result.json (the task score, the force trace, wall time per stage). Exits 1 if the cut fails.
@@ -13,85 +14,17 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-import time
 from contextlib import ExitStack
 from pathlib import Path
 
 import numpy as np
 
-REPO_ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(REPO_ROOT / "client" / "python"))
-
-from culinarycut import Client, CulinaryCutEnv  # noqa: E402
-from culinarycut.launch import ServerProcess  # noqa: E402
-from culinarycut.policies import ScriptedOracle  # noqa: E402
+from culinarycut import Client
+from culinarycut.launch import ServerProcess
+from culinarycut.policies import run_oracle_episode
+from culinarycut.scenes import CUT_CUCUMBER_INSTRUCTION, cut_cucumber_scene
 
 CAMERAS = ("front", "left", "right")
-# At the draft grid a real cucumber (E = 2.5 MPa) needs more force than the Panda's wrist gives
-# (docs/world.md): the example softens it unless --real-material is given.
-SOFT_CUCUMBER = {"youngs_modulus_pa": 2e5}
-
-
-def cucumber_scene(instruction: str, quality: str, width: int, height: int, real_material: bool) -> dict:
-    food = {"food": "cucumber"}
-    if not real_material:
-        food["material_overrides"] = SOFT_CUCUMBER
-    return {
-        "quality": quality,
-        "effects": {"mpm": True, "damage": True, "friction": True, "topology": True, "force_sensing": True},
-        "objects": [food],
-        "task": {"instruction": instruction},
-        "cameras": [{"name": name, "width": width, "height": height} for name in CAMERAS],
-    }
-
-
-def run_episode(client: Client, scene: dict, seed: int = 0, on_step=None, max_steps: int = 2000,
-                max_wall_s: float = float("inf")) -> dict:
-    """Resets a session of `scene`, runs the scene task's oracle until its plan ends (or max_steps /
-    max_wall_s; then "complete" is false), and returns the trace: per step the sim time (s), wrist
-    force (N, flange frame), phase, reward and client wall time (s); the final score; per-stage
-    server wall time (s). `on_step(step, obs, info)` sees every observation (e.g. for video frames)."""
-    with CulinaryCutEnv(client=client, scene=scene) as env:
-        started = time.perf_counter()
-        observation, info = env.reset(seed=seed)
-        if on_step:
-            on_step(0, observation, info)
-        oracle = ScriptedOracle(client, env.session_id)
-        oracle.reset()  # the scene's task
-        trace = {"time_s": [], "wrist_force_n": [], "tcp_z_m": [], "phase": [], "reward": [], "step_wall_s": [],
-                 "first_contact_step": None, "terminated_step": None}
-        step = 0
-        while not oracle.finished and step < max_steps and time.perf_counter() - started < max_wall_s:
-            step_started = time.perf_counter()
-            _, values = oracle.act()
-            observation, reward, terminated, truncated, info = env.step(values)
-            trace["step_wall_s"].append(time.perf_counter() - step_started)
-            step += 1
-            trace["time_s"].append(info["sim_time"])
-            trace["wrist_force_n"].append(observation["extra"]["wrist_wrench"][:3].tolist())
-            trace["tcp_z_m"].append(float(observation["extra"]["tcp_pose"][2]))  # the knife edge's height
-            trace["phase"].append(oracle.phase)
-            trace["reward"].append(reward)
-            if info["first_contact"]:
-                trace["first_contact_step"] = step
-            if terminated and trace["terminated_step"] is None:
-                trace["terminated_step"] = step
-            if on_step:
-                on_step(step, observation, info)
-        trace["client_wall_s"] = time.perf_counter() - started
-        trace["steps"] = step
-        trace["complete"] = oracle.finished
-        trace["instruction"] = info.get("instruction", env.handshake.resolved_scene.task.instruction)
-        trace["score"] = info.get("task", {})
-        trace["success"] = bool(info.get("success", False))
-        trace["pieces"] = len(info.get("food", {}).get("pieces", []))
-        stats = client.session_stats(env.session_id)
-        trace["stage_wall_s"] = dict(stats.stage_wall_time_s)
-        trace["mpm_particles"] = int(stats.mpm_particles)
-        trace["mpm_substeps"] = int(stats.mpm_substeps)
-        trace["resolution"] = {"dx_m": stats.mpm_dx, "particles_per_cell": stats.mpm_particles_per_cell,
-                               "cfl": stats.mpm_cfl}
-    return trace
 
 
 def plot_force(trace: dict, path: Path) -> None:
@@ -124,7 +57,7 @@ def plot_force(trace: dict, path: Path) -> None:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--address", help="a running server; default: start one (build/server/culinarycut-server)")
-    parser.add_argument("--instruction", default="cut the cucumber at 0.3 ratio from the left")
+    parser.add_argument("--instruction", default=CUT_CUCUMBER_INSTRUCTION)
     parser.add_argument("--quality", default="draft", choices=("draft", "standard", "fine"))
     parser.add_argument("--width", type=int, default=224)
     parser.add_argument("--height", type=int, default=224)
@@ -142,7 +75,8 @@ def main() -> int:
             stack.callback(server.stop)
             args.address = server.address
         client = stack.enter_context(Client(args.address, timeout_s=600))
-        scene = cucumber_scene(args.instruction, args.quality, args.width, args.height, args.real_material)
+        scene = cut_cucumber_scene(args.instruction, args.quality, args.width, args.height, CAMERAS,
+                                   args.real_material)
         fps = 20.0  # the default control rate: one frame per step plays in real time
         writers = {name: cv2.VideoWriter(str(args.out / f"{name}.mp4"), cv2.VideoWriter_fourcc(*"mp4v"), fps,
                                          (args.width, args.height)) for name in CAMERAS}
@@ -161,7 +95,7 @@ def main() -> int:
                 print(f"step {step:4d}  t={info['sim_time']:5.2f} s  |F|={force:6.2f} N  pieces={pieces}", flush=True)
 
         print(f"{args.instruction!r} at the {args.quality} preset on {args.address}", flush=True)
-        trace = run_episode(client, scene, seed=args.seed, on_step=on_step)
+        trace = run_oracle_episode(client, scene, seed=args.seed, on_step=on_step)
 
     plot_force(trace, args.out / "force.png")
     (args.out / "result.json").write_text(json.dumps(trace, indent=1))

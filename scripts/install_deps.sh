@@ -38,6 +38,10 @@ install_python_env() {
     "$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r "$pins"
     cp "$pins" "$venv/.installed-pins"
   fi
+  # The culinarycut package itself, editable: its build generates the gRPC stubs with Debian's grpc_tools
+  # (--no-build-isolation), which match Debian's protobuf and grpcio; --no-index: those come from Debian.
+  "$venv/bin/python" -m pip install --quiet --disable-pip-version-check --no-build-isolation --no-index \
+    -e "$root/client/python"
 }
 
 missing=()

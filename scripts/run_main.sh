@@ -22,9 +22,9 @@ done
 [ -n "$address" ] || { echo "run_main: the server did not start within 10 s:"; cat "$log"; exit 1; }
 echo "run_main: server at $address (log: $log)"
 
-PYTHONPATH="$root/client/python${PYTHONPATH:+:$PYTHONPATH}" /usr/bin/python3 -m culinarycut demo --address "$address"
+"$root/.venv/bin/culinarycut" demo --address "$address"
 echo "run_main: C++ client example:"
 "$root/build/client/cpp/drive_knife" "$address"
 echo "run_main: scripted oracle policy:"
-PYTHONPATH="$root/client/python${PYTHONPATH:+:$PYTHONPATH}" /usr/bin/python3 -m culinarycut oracle \
+"$root/.venv/bin/culinarycut" oracle \
   "cut the cucumber at 0.3 ratio from the left" --address "$address"

@@ -1,16 +1,10 @@
-"""Fixtures that run the real culinarycut-server binary on ephemeral ports."""
+"""Fixtures that run the real culinarycut-server binary on ephemeral ports (the culinarycut package comes
+from the Python running pytest: the project's .venv, where scripts/install_deps.sh installs it)."""
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import pytest
-
-REPO_ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(REPO_ROOT / "client" / "python"))
-
-from culinarycut import Client  # noqa: E402  (needs the sys.path entry above)
-from culinarycut.launch import ServerProcess, server_binary  # noqa: E402
+from culinarycut import Client
+from culinarycut.launch import ServerProcess, server_binary
 
 
 def start_server(max_sessions: int) -> ServerProcess:

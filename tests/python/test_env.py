@@ -25,7 +25,7 @@ def assert_obs_matches_space(space, obs):
             value, box = obs[group][name], space[group][name]
             assert isinstance(box, Box)
             assert box.shape == shape and value.shape == shape, (group, name, box.shape, value.shape)
-            assert value.dtype == box.dtype == np.float64, (group, name, value.dtype, box.dtype)
+            assert value.dtype == box.dtype == np.float32, (group, name, value.dtype, box.dtype)  # ManiSkill's
             assert np.all(np.isfinite(value)), (group, name, value)
     assert space.contains(obs)
 
@@ -83,7 +83,8 @@ def test_reset_and_step_match_spaces(address):
             assert info["sim_time"] == pytest.approx(k * env.control_timestep)
             assert info["substeps"] == round(env.control_timestep * PHYSICS_HZ)
             assert info["action_clipped"] is False
-            assert set(info) >= {"ik_converged", "ik_position_error", "ik_orientation_error", "step_wall_time_ms"}
+            assert set(info) >= {"ik_converged", "ik_position_error", "ik_orientation_error"}
+            assert "step_wall_time_ms" in env.last_step_timings  # wall times stay out of info
 
 
 def test_reset_pose_is_knife_down_above_table(address):

@@ -1,10 +1,15 @@
-"""`python -m culinarycut ...`: see culinarycut.cli."""
+"""`python -m culinarycut ...` and the `culinarycut` command: see culinarycut.cli."""
 import sys
 
-try:
-    from culinarycut.cli import main
-except ImportError as err:  # most likely the generated stubs are missing: say so without a traceback
-    print(f"error: {err}", file=sys.stderr)
-    sys.exit(2)
 
-sys.exit(main())
+def main() -> int:
+    try:
+        from culinarycut.cli import main as cli_main
+    except ImportError as err:  # most likely the generated stubs are missing: say so without a traceback
+        print(f"error: {err}", file=sys.stderr)
+        return 2
+    return cli_main()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -12,7 +12,6 @@ from culinarycut.tasks import TaskClient
 from culinarycut.v1 import scene_pb2, simulator_pb2, simulator_pb2_grpc
 
 
-
 def scene_to_proto(scene) -> scene_pb2.SceneSpec:
     """Accept a SceneSpec, a plain dict in proto-JSON form (camelCase or snake_case keys) or None."""
     if scene is None:
@@ -74,8 +73,9 @@ def segmentation_labels_to_dict(obs: simulator_pb2.Observation) -> dict[int, dic
 
 
 def observation_to_dict(obs: simulator_pb2.Observation) -> dict[str, dict[str, Any]]:
-    """Observation proto to a ManiSkill-style nested dict: float64 arrays in SI units, plus
-    sensor_data / sensor_param when the scene has cameras."""
+    """Observation proto to a ManiSkill-style nested dict as the wire carries it: float64 arrays in SI
+    units, plus sensor_data / sensor_param when the scene has cameras (CulinaryCutEnv converts these to
+    ManiSkill's dtypes, see observation_conventions)."""
     result = _state_to_dict(obs)
     if len(obs.cameras):
         sensor_data, sensor_param = cameras_to_dict(obs)
@@ -117,19 +117,27 @@ def stamp_to_dict(stamp: simulator_pb2.FrameStamp) -> dict[str, Any]:
 
 
 def step_info_to_dict(info: simulator_pb2.StepInfo) -> dict[str, Any]:
+    """What the step did; the same on every run of the same seed and actions (wall times excluded)."""
     return {
         "substeps": int(info.substeps),
         "action_clipped": bool(info.action_clipped),
         "ik_converged": bool(info.ik_converged),
         "ik_position_error": float(info.ik_position_error),        # m
         "ik_orientation_error": float(info.ik_orientation_error),  # rad
+        "mpm_substeps": int(info.mpm_substeps),
+        "first_contact": bool(info.first_contact),                 # the contact phase began
+    }
+
+
+def step_timings_to_dict(info: simulator_pb2.StepInfo) -> dict[str, float]:
+    """The server's wall-clock time for the step, by stage (ms); varies from run to run."""
+    return {
         "step_wall_time_ms": float(info.step_wall_time_ms),
         "control_wall_time_ms": float(info.control_wall_time_ms),  # action -> joint targets (IK)
         "physics_wall_time_ms": float(info.physics_wall_time_ms),  # robot physics substeps
-        "mpm_substeps": int(info.mpm_substeps),
         "mpm_wall_time_ms": float(info.mpm_wall_time_ms),
         "topology_wall_time_ms": float(info.topology_wall_time_ms),
-        "first_contact": bool(info.first_contact),                 # the contact phase began
+        "render_wall_time_ms": float(info.render_wall_time_ms),    # the scene's cameras
     }
 
 

@@ -1,41 +1,54 @@
-"""CulinaryCutEnv: a Gymnasium-API environment backed by one server session."""
+"""CulinaryCutEnv: a gymnasium.Env backed by one server session, with ManiSkill's observation layout and dtypes.
+
+Without gymnasium installed it derives from the package's stand-in (gymnasium_support) and behaves the same.
+"""
 from __future__ import annotations
 
 from typing import Any
 
 import numpy as np
 
-from culinarycut.client import (Client, food_to_dict, observation_to_dict,
-                                segmentation_labels_to_dict, stamp_to_dict, step_info_to_dict)
+from culinarycut.client import (Client, food_to_dict, observation_to_dict, segmentation_labels_to_dict,
+                                stamp_to_dict, step_info_to_dict, step_timings_to_dict)
 from culinarycut.errors import InvalidArgument, NotFound
+from culinarycut.gymnasium_support import Env, np_random
+from culinarycut.observation_conventions import maniskill_box, to_maniskill
 from culinarycut.spaces import box_from_array_spec, dict_from_array_specs
 from culinarycut.tasks import score_to_dict
 
 _RESET_OPTIONS = {"initial_qpos"}
 
 
-class CulinaryCutEnv:
-    """Gymnasium-style env (reset/step/close, observation_space/action_space) over gRPC.
+def task_failed(score) -> bool:
+    """A cut that can never count towards the task was made: through another object, or one more than the
+    task asks for (pieces do not join again, so the episode cannot succeed any more)."""
+    return score.wrong_object_cuts > 0 or score.extra_cuts > 0
 
-    The session is created in __init__ because the spaces come from the CreateSession handshake.
-    Seeding: reset(seed=s) reseeds np_random and the server with s; reset() without a seed first uses
-    the scene's seed, then draws each episode's server seed from np_random, so a run is reproducible.
+
+class CulinaryCutEnv(Env):
+    """reset/step/render/close with observation_space and action_space from the CreateSession handshake.
+
+    The session is created in __init__ because the spaces come from the handshake; the action space is the
+    server's for `control_mode`, the observation space ManiSkill's dtypes of what the server declares.
+    Seeding is Gymnasium's: reset(seed=s) seeds np_random and the server with s; reset() without a seed
+    uses the scene's seed for the first episode, then draws each episode's server seed from np_random.
+    info after a step: frame_id, sim_time, elapsed_steps, success, fail, the server's step diagnostics and,
+    with a scene task, its score. Wall-clock stage times vary from run to run, so they stay out of info
+    (which is reproducible, as Gymnasium's checker wants) and go to last_step_timings.
     """
 
-    metadata: dict[str, Any] = {"render_modes": ["rgb_array"]}
-    spec = None
+    metadata: dict[str, Any] = {"render_modes": ["rgb_array"]}  # the class's; an instance lists its scene's
 
     def __init__(self, address: str = "127.0.0.1:50051", scene=None, control_mode: str = "pd_ee_delta_pose",
                  client: Client | None = None, render_mode: str | None = None):
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode must be None or 'rgb_array', not {render_mode!r}")
         self.render_mode = render_mode
-        self._last_sensor_data = None  # the last reply's decoded images, for render()
+        self.last_step_timings: dict[str, float] = {}  # ms per server stage of the last step
+        self._last_sensor_data = None  # the last reply's images, for render()
         self._owns_client = client is None
         self.client = client if client is not None else Client(address)
         self._session_id: str | None = None
-        self._np_random: np.random.Generator | None = None
-        self._np_random_seed: int | None = None
         try:
             handshake = self.client.create_session(scene)
         except Exception:
@@ -51,44 +64,21 @@ class CulinaryCutEnv:
                              f"choose one of {sorted(modes)}")
         self.control_mode = control_mode
         self.action_space = box_from_array_spec(modes[control_mode].action)
-        self.observation_space = dict_from_array_specs(handshake.observation_spec)
+        self.observation_space = dict_from_array_specs(handshake.observation_spec, maniskill_box)
         self.control_timestep = float(handshake.control_timestep)  # s of sim time per step
-        if render_mode == "rgb_array" and not any("rgb" in c.channels for c in handshake.resolved_scene.cameras):
+        has_rgb = any("rgb" in camera.channels for camera in handshake.resolved_scene.cameras)
+        if render_mode == "rgb_array" and not has_rgb:
             self.close()
             raise ValueError("render_mode='rgb_array' needs a camera with an rgb channel in the scene, "
                              "e.g. scene={'cameras': [{'name': 'front'}]}")
-        # Per-instance copy so render_fps reflects this session's control rate.
-        self.metadata = dict(type(self).metadata)
+        # What this scene can render, at this session's control rate.
+        self.metadata = {"render_modes": ["rgb_array"] if has_rgb else []}
         if self.control_timestep > 0:
             self.metadata["render_fps"] = 1.0 / self.control_timestep
 
     @property
     def session_id(self) -> str | None:
         return self._session_id
-
-    @property
-    def np_random(self) -> np.random.Generator:
-        if self._np_random is None:
-            self._seed_np_random(None)
-        return self._np_random
-
-    @np_random.setter
-    def np_random(self, value: np.random.Generator) -> None:
-        self._np_random = value
-        self._np_random_seed = -1  # as gymnasium: unknown once set from outside
-
-    @property
-    def np_random_seed(self) -> int | None:
-        return self._np_random_seed
-
-    def _seed_np_random(self, seed: int | None) -> None:
-        seq = np.random.SeedSequence(seed)
-        self._np_random = np.random.Generator(np.random.PCG64(seq))
-        self._np_random_seed = int(seq.entropy)
-
-    @property
-    def unwrapped(self) -> "CulinaryCutEnv":
-        return self
 
     def _require_open(self) -> str:
         if self._session_id is None:
@@ -102,23 +92,25 @@ class CulinaryCutEnv:
         unknown = set(options) - _RESET_OPTIONS
         if unknown:
             raise ValueError(f"unknown reset option(s) {sorted(unknown)}; supported: {sorted(_RESET_OPTIONS)}")
+        first_episode = self._np_random is None
+        super().reset(seed=seed)
         if seed is not None:
-            self._seed_np_random(seed)
             server_seed = int(seed)
-        elif self._np_random is None:
-            server_seed = None  # first episode: the scene's seed
+        elif first_episode:
+            server_seed = None  # the scene's seed
         else:
-            server_seed = int(self._np_random.integers(2**63))
+            server_seed = int(self.np_random.integers(2**63))
         response = self.client.reset(session_id, seed=server_seed, initial_qpos=options.get("initial_qpos"))
-        if self._np_random is None:
-            self._seed_np_random(int(response.seed))
+        if self._np_random is None:  # seeded from the scene's seed, so unseeded runs repeat too
+            self._np_random, self._np_random_seed = np_random(int(response.seed))
+        self.last_step_timings = {}
         info = stamp_to_dict(response.stamp)
         info["seed"] = int(response.seed)
         return self._observation(response.observation, info), info
 
     def _observation(self, observation, info: dict[str, Any]) -> dict[str, Any]:
         """The observation dict; its variable-length parts go to info, its images are kept for render()."""
-        result = observation_to_dict(observation)
+        result = to_maniskill(observation_to_dict(observation))
         self._last_sensor_data = result.get("sensor_data", {})
         if observation.HasField("food"):
             info["food"] = food_to_dict(observation)
@@ -141,12 +133,16 @@ class CulinaryCutEnv:
                 raise InvalidArgument(f"{err.details} (client: action has {values.size} values, "
                                       f"{self.control_mode} expects shape {self.action_space.shape})") from None
             raise
+        self.last_step_timings = step_timings_to_dict(response.info)
         info = stamp_to_dict(response.stamp)
         info.update(step_info_to_dict(response.info))
-        observation = self._observation(response.observation, info)
-        if response.HasField("task_score"):  # a scene task: the success metrics, final at the episode's end
-            info["success"] = bool(response.task_score.success)
+        info["elapsed_steps"] = int(response.stamp.frame_id)  # steps since reset, as ManiSkill counts
+        has_task = response.HasField("task_score")
+        info["success"] = has_task and bool(response.task_score.success)
+        info["fail"] = has_task and task_failed(response.task_score)
+        if has_task:  # the success metrics, final at the episode's end
             info["task"] = score_to_dict(response.task_score)
+        observation = self._observation(response.observation, info)
         return (observation, float(response.reward),
                 bool(response.terminated), bool(response.truncated), info)
 
@@ -174,12 +170,6 @@ class CulinaryCutEnv:
         finally:
             if self._owns_client and session_id is not None:
                 self.client.close()
-
-    def __enter__(self) -> "CulinaryCutEnv":
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.close()
 
     def __str__(self) -> str:
         return f"<CulinaryCutEnv session={self._session_id} control_mode={self.control_mode}>"

@@ -4,22 +4,29 @@ from __future__ import annotations
 import os
 import queue
 import re
+import shutil
 import signal
 import subprocess
 import threading
 import time
 from pathlib import Path
 
-REPO_ROOT = Path(__file__).resolve().parents[3]
-DEFAULT_BINARY = REPO_ROOT / "build" / "server" / "culinarycut-server"
+SERVER_NAME = "culinarycut-server"
+# Where the package sits when it runs from a CulinaryCut checkout (an editable install).
+CHECKOUT_ROOT = Path(__file__).resolve().parents[3]
 _LISTEN_RE = re.compile(r"listening on (127\.0\.0\.1:\d+)")
 _TELEMETRY_RE = re.compile(r"telemetry on (tcp://127\.0\.0\.1:\d+)")
 
 
 def server_binary() -> Path:
-    """$CULINARYCUT_SERVER if set, else <repo>/build/server/culinarycut-server."""
+    """$CULINARYCUT_SERVER if set; else, from a checkout, its build/server/culinarycut-server; else the
+    culinarycut-server on PATH."""
     env = os.environ.get("CULINARYCUT_SERVER")
-    return Path(env) if env else DEFAULT_BINARY
+    if env:
+        return Path(env)
+    if (CHECKOUT_ROOT / "proto" / "culinarycut").is_dir():
+        return CHECKOUT_ROOT / "build" / "server" / SERVER_NAME
+    return Path(shutil.which(SERVER_NAME) or SERVER_NAME)
 
 
 class ServerProcess:
@@ -91,6 +98,7 @@ class ServerProcess:
             raise TimeoutError(f"server did not exit within {timeout_s:.0f} s of SIGTERM; "
                                f"output:\n{self.output()}") from None
         self._reader.join(timeout=5)
+        self.proc.stdout.close()
         return code
 
     def kill(self) -> None:
