@@ -104,9 +104,9 @@ void DescribeCameraSpaces(const Model& model, v1::CreateSessionResponse* respons
                    {2147483647.0});
     }
     const std::string param = "sensor_param/" + camera.name + "/";
-    AddImageSpec(response, param + "intrinsic_cv", {3, 3}, "float64", "OpenCV K (pixels)");
-    AddImageSpec(response, param + "extrinsic_cv", {3, 4}, "float64", "[R | t] world -> OpenCV camera frame");
-    AddImageSpec(response, param + "cam2world_gl", {4, 4}, "float64", "OpenGL camera frame -> world");
+    AddImageSpec(response, param + "intrinsic_cv", {3, 3}, "float32", "OpenCV K (pixels)");
+    AddImageSpec(response, param + "extrinsic_cv", {3, 4}, "float32", "[R | t] world -> OpenCV camera frame");
+    AddImageSpec(response, param + "cam2world_gl", {4, 4}, "float32", "OpenGL camera frame -> world");
   }
 }
 

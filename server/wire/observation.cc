@@ -8,13 +8,14 @@
 namespace culinarycut::server {
 namespace {
 
-// An unbounded float64 vector observation (empty low/high on the wire means unbounded).
+// An unbounded vector observation (empty low/high on the wire means unbounded), float32 as in
+// ManiSkill; the values travel as doubles.
 v1::ArraySpec* AddArraySpec(v1::CreateSessionResponse* response, const std::string& name, int size,
                             const std::string& description) {
   v1::ArraySpec* spec = response->add_observation_spec();
   spec->set_name(name);
   spec->add_shape(size);
-  spec->set_dtype("float64");
+  spec->set_dtype("float32");
   spec->set_description(description);
   return spec;
 }
@@ -133,7 +134,7 @@ void DescribeSpaces(const Model& model, v1::CreateSessionResponse* response) {
     v1::ArraySpec* action = spec->mutable_action();
     action->set_name("action");
     action->add_shape(static_cast<std::uint32_t>(bounds.low.size()));
-    action->set_dtype("float64");
+    action->set_dtype("float32");  // ManiSkill's action spaces; the values travel as doubles
     action->mutable_low()->Assign(bounds.low.begin(), bounds.low.end());
     action->mutable_high()->Assign(bounds.high.begin(), bounds.high.end());
     action->set_description(bounds.description);

@@ -50,7 +50,7 @@ def fingerprint(response) -> bytes:
 def test_action_space_from_handshake(address, mode, dim, bound):
     with CulinaryCutEnv(address, control_mode=mode) as env:
         space = env.action_space
-        assert isinstance(space, Box) and space.shape == (dim,) and space.dtype == np.float64
+        assert isinstance(space, Box) and space.shape == (dim,) and space.dtype == np.float32  # ManiSkill's action dtype
         if bound is not None:
             np.testing.assert_array_equal(space.low, -bound)
             np.testing.assert_array_equal(space.high, bound)
