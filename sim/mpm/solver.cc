@@ -89,13 +89,12 @@ void Solver<Real>::RestoreSubstepsTaken(std::uint64_t count) {
   workspace_->substeps_since_reorder = count;
 }
 
-template <typename Real>
-double Solver<Real>::StableTimestep() const {
+double StableTimestep(const SolverModel& model) {
   double fastest_m_s = 0.0;
-  for (const Material& material : materials()) {
+  for (const Material& material : model.materials) {
     fastest_m_s = std::max(fastest_m_s, material.dilatational_wave_speed_m_s());
   }
-  return std::min(config().max_dt_s, config().cfl * config().dx_m / fastest_m_s);
+  return std::min(model.config.max_dt_s, model.config.cfl * model.config.dx_m / fastest_m_s);
 }
 
 

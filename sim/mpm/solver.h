@@ -64,6 +64,10 @@ struct SolverModel {
   std::vector<Material> materials;
 };
 
+// The CFL-limited time step of a solver with this model: cfl dx / max over materials of
+// sqrt((lambda + 2 mu) / rho), capped by max_dt_s (s).
+double StableTimestep(const SolverModel& model);
+
 template <typename Real>
 class Solver {
  public:
@@ -87,9 +91,8 @@ class Solver {
   void SetTable(double height_m);
   const KnifeSdf* knife() const { return knife_.get(); }
 
-  // The CFL-limited time step: cfl dx / max over materials of sqrt((lambda + 2 mu) / rho), capped
-  // by max_dt_s (s).
-  double StableTimestep() const;
+  // The CFL-limited time step of its model (s).
+  double StableTimestep() const { return mpm::StableTimestep(*model_); }
 
   // Advances the food by dt_s with the colliders at their current motion.
   SubstepDiagnostics Substep(double dt_s);

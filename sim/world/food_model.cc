@@ -83,6 +83,29 @@ void CheckEffects(const SceneConfig& config) {
   }
 }
 
+// The food's box in the world (m): the corners of its local box in its pose.
+Eigen::AlignedBox3d WorldBox(const mpm::FoodShape& shape, const Eigen::Isometry3d& pose) {
+  const Eigen::AlignedBox3d local = shape.LocalBounds();
+  Eigen::AlignedBox3d world;
+  for (int corner = 0; corner < 8; ++corner) world.extend(pose * local.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner)));
+  return world;
+}
+
+// Food lies on the table: over its top, from 1 cm below the surface to 1 m above it.
+void CheckOnTable(const Eigen::AlignedBox3d& food_m, const SceneLayout& layout, const std::string& field) {
+  const Eigen::Vector3d half = 0.5 * layout.table_size_m;
+  const double top_m = layout.table_center_m.z() + half.z();
+  const Eigen::AlignedBox3d allowed(
+      Eigen::Vector3d(layout.table_center_m.x() - half.x(), layout.table_center_m.y() - half.y(), top_m - 0.01),
+      Eigen::Vector3d(layout.table_center_m.x() + half.x(), layout.table_center_m.y() + half.y(), top_m + 1.0));
+  if (!allowed.contains(food_m)) {
+    throw SceneError(field + ".pose.position puts the food off the table: it must lie over the table top (x in [" +
+                     std::to_string(allowed.min().x()) + ", " + std::to_string(allowed.max().x()) + "] m, y in [" +
+                     std::to_string(allowed.min().y()) + ", " + std::to_string(allowed.max().y()) +
+                     "] m, at most 1 m above it)");
+  }
+}
+
 }  // namespace
 
 FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout) {
@@ -113,6 +136,8 @@ FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout)
   sampling.particles_per_cell = resolution.particles_per_cell;
   sampling.seed = config.seed;
   const int count = static_cast<int>(config.foods.size());
+  double estimated_particles = 0.0;
+  Eigen::AlignedBox3d all_foods_m;
   for (int i = 0; i < count; ++i) {
     const FoodConfig& food = config.foods[i];
     const std::string field = "scene.objects[" + std::to_string(i) + "]";
@@ -125,6 +150,25 @@ FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout)
     solver_model.materials.push_back(ResolveFoodMaterial(food, field));
     const Eigen::Isometry3d pose = FoodPose(food, *shape, layout, i, count);
     if (!pose.translation().allFinite()) throw SceneError(field + ".pose.position must be finite");
+    const Eigen::AlignedBox3d box_m = WorldBox(*shape, pose);
+    CheckOnTable(box_m, layout, field);
+    all_foods_m.extend(box_m);
+    // Before sampling: convex foods fill at least half their box (a sphere 52 %), so half the box's
+    // count is a lower bound on what sampling would make.
+    estimated_particles += 0.5 * EstimatedParticles(shape->LocalBounds().sizes(), resolution.dx_m,
+                                                    resolution.particles_per_cell);
+    if (estimated_particles > kMaxFoodParticles) {
+      throw SceneError(field + ": the foods would need about " + std::to_string(static_cast<long long>(estimated_particles)) +
+                       " particles, more than the " + std::to_string(kMaxFoodParticles) +
+                       " a session may hold; use a coarser scene.quality, fewer particles_per_cell or a smaller scale");
+    }
+    food_model.initial_grid_nodes = EstimatedGridNodes(all_foods_m, resolution.dx_m);
+    if (food_model.initial_grid_nodes > kMaxInitialGridNodes) {
+      throw SceneError(field + ": the foods spread over " + std::to_string(all_foods_m.sizes().maxCoeff()) +
+                       " m, an MPM grid of " + std::to_string(static_cast<long long>(food_model.initial_grid_nodes)) +
+                       " nodes (limit " + std::to_string(static_cast<long long>(kMaxInitialGridNodes)) +
+                       "); place the foods closer together or use a coarser scene.quality");
+    }
     const std::size_t added = mpm::SampleFood(*shape, pose, solver_model.materials.back().density_kg_m3,
                                               static_cast<std::uint16_t>(i), static_cast<std::uint16_t>(i), sampling,
                                               &food_model.initial_particles);

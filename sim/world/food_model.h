@@ -15,6 +15,7 @@
 #include "sim/mpm/topology.h"
 #include "sim/task/object_box.h"
 #include "sim/world/quality_preset.h"
+#include "sim/world/scene_budget.h"
 #include "sim/world/scene_config.h"
 #include "sim/world/scene_layout.h"
 
@@ -37,14 +38,14 @@ struct FoodModel {
   // for rest_duration_s.
   double rest_speed_m_s = 0.005;
   double rest_duration_s = 0.05;
+  double initial_grid_nodes = 0.0;           // of the box around all foods at rest (scene_budget.h)
 };
 
-// Largest food a session may hold; more needs a coarser quality or a smaller scale.
-inline constexpr std::size_t kMaxFoodParticles = 2'000'000;
 inline constexpr std::size_t kParticlesPerMpmThread = 5'000;  // fewer per thread: one thread is faster
 
 // Builds the food model. Throws SceneError naming the field at fault (unknown food or material,
-// bad override, an object off the board, too many particles, an effect without effects.mpm).
+// bad override, an object off the table, too many particles or grid nodes (scene_budget.h, checked
+// before sampling), an effect without effects.mpm).
 FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout);
 
 }  // namespace culinarycut

@@ -1,10 +1,12 @@
 #include "sim/world/model.h"
 
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 
 #include "sim/core/assets.h"
 #include "sim/world/camera_rig.h"
+#include "sim/world/scene_budget.h"
 
 namespace culinarycut {
 namespace {
@@ -65,11 +67,48 @@ std::shared_ptr<const Model> CompileModel(const SceneConfig& config, const Robot
   model->initial_qpos_rad = Eigen::Map<const Eigen::VectorXd>(initial.data(), static_cast<long>(initial.size()));
   if (const auto error = CheckJointPositions(robot, initial, "scene.robot.initial_qpos")) throw SceneError(*error);
 
+  // Cameras first: they are cheap to resolve, and a scene past the pixel budget must be refused
+  // before its food is sampled.
+  model->cameras = ResolveCameras(config.cameras, model->layout, robot);
+  std::int64_t camera_pixels = 0;
+  for (const render::CameraSpec& camera : model->cameras) camera_pixels += std::int64_t{camera.width} * camera.height;
+  if (camera_pixels > kMaxCameraPixelsPerSession) {
+    throw SceneError("scene.cameras: " + std::to_string(camera_pixels) + " pixels in all, more than the " +
+                     std::to_string(kMaxCameraPixelsPerSession) +
+                     " a session may render; lower width and height or declare fewer cameras");
+  }
+  for (std::size_t i = 0; i < model->cameras.size(); ++i) {  // echo what each camera resolved to
+    const render::CameraSpec& camera = model->cameras[i];
+    CameraConfig& resolved = model->config.cameras[i];
+    resolved.pose = camera.pose_in_world;
+    resolved.attached_link = camera.attached_link;
+    resolved.fov_y_deg = camera.fov_y_deg;
+    resolved.width = camera.width;
+    resolved.height = camera.height;
+    resolved.channels.clear();
+    if (camera.rgb) resolved.channels.push_back("rgb");
+    if (camera.depth) resolved.channels.push_back("depth");
+    if (camera.segmentation) resolved.channels.push_back("segmentation");
+    if (resolved.rgb_encoding.empty()) resolved.rgb_encoding = "raw";
+  }
+
   const EffectsConfig& effects = config.effects;
   if (effects.mpm || !config.foods.empty() || effects.plasticity || effects.damage || effects.friction ||
       effects.topology || effects.force_sensing) {
     model->food = CompileFoodModel(config, model->layout);  // validates the effects against the foods
+    const double mpm_substeps = model->substeps_per_control_step *
+                                std::ceil(model->physics_timestep_s / mpm::StableTimestep(*model->food->solver));
+    if (!(mpm_substeps <= kMaxMpmSubstepsPerControlStep)) {
+      std::ostringstream message;
+      message << "scene.mpm.cfl: the food needs about " << std::setprecision(3) << mpm_substeps
+              << " MPM substeps per control step (limit " << std::setprecision(6) << kMaxMpmSubstepsPerControlStep
+              << "); raise scene.mpm.cfl, use a coarser scene.quality or a softer material (youngs_modulus_pa)";
+      throw SceneError(message.str());
+    }
   }
+  const std::size_t particles = model->food ? model->food->initial_particles.size() : 0;
+  model->estimated_memory_bytes =
+      EstimatedSessionBytes(particles, model->food ? model->food->initial_grid_nodes : 0.0, camera_pixels);
 
   if (!config.task.empty()) {
     if (!model->food) throw SceneError("scene.task needs food: declare scene.objects with effects.mpm");
@@ -88,22 +127,6 @@ std::shared_ptr<const Model> CompileModel(const SceneConfig& config, const Robot
       resolved.reference = task::Name(spec.reference);
     }
   }
-  model->cameras = ResolveCameras(config.cameras, model->layout, robot);
-  for (std::size_t i = 0; i < model->cameras.size(); ++i) {  // echo what each camera resolved to
-    const render::CameraSpec& camera = model->cameras[i];
-    CameraConfig& resolved = model->config.cameras[i];
-    resolved.pose = camera.pose_in_world;
-    resolved.attached_link = camera.attached_link;
-    resolved.fov_y_deg = camera.fov_y_deg;
-    resolved.width = camera.width;
-    resolved.height = camera.height;
-    resolved.channels.clear();
-    if (camera.rgb) resolved.channels.push_back("rgb");
-    if (camera.depth) resolved.channels.push_back("depth");
-    if (camera.segmentation) resolved.channels.push_back("segmentation");
-    if (resolved.rgb_encoding.empty()) resolved.rgb_encoding = "raw";
-  }
-
   std::uint64_t hash = 1469598103934665603ULL;
   HashBytes(&hash, &model->control_timestep_s, sizeof(double));
   HashBytes(&hash, &model->substeps_per_control_step, sizeof(int));

@@ -46,6 +46,7 @@ struct Model {
   std::vector<render::CameraSpec> cameras;  // config.cameras resolved, in the same order; empty: no rendering
   std::optional<TaskModel> task;        // only when the scene declares a task (needs food with topology)
   std::uint64_t fingerprint = 0;        // changes whenever anything that shapes a State changes
+  std::size_t estimated_memory_bytes = 0;  // what a session of this model will hold (scene_budget.h)
 };
 
 // Compiles a config against a loaded robot. Throws SceneError with an actionable message.

@@ -16,15 +16,17 @@ from culinarycut.errors import CulinaryCutError, DeadlineExceeded, NotFound
 from culinarycut.launch import ServerProcess, server_binary
 from culinarycut.policies import ScriptedOracle
 
-# A draft cucumber with a CFL factor 100 times below the preset's: every control step with the
-# knife near the food runs thousands of MPM substeps (seconds of work), while the approach is fast.
-SLOW_SCENE = {"quality": "draft", "mpm": {"cfl": 0.003},
+# A large draft cucumber with a CFL factor 25 times below the preset's (about 35,000 MPM substeps per
+# control step, under the server's limit): every control step with the knife near the food is seconds
+# of work, while the approach is fast.
+SLOW_SCENE = {"quality": "draft", "mpm": {"cfl": 0.012},
               "effects": {"mpm": True, "damage": True, "friction": True, "topology": True, "force_sensing": True},
-              "objects": [{"food": "cucumber"}]}
+              "objects": [{"food": "cucumber", "scale": 1.5}]}
 
 
-def approach_until_slow(address: str, session: str, deadline_s: float) -> int:
-    """Steps the oracle with a `deadline_s` per call until a step misses it; returns the steps applied."""
+def approach_until_slow(address: str, session: str, deadline_s: float) -> tuple[int, str, list[float]]:
+    """Steps the oracle with a `deadline_s` per call until a step misses it; returns the steps applied
+    and the action of the slow step (not applied)."""
     with Client(address, timeout_s=30.0) as planner, Client(address, timeout_s=deadline_s) as hurried:
         oracle = ScriptedOracle(planner, session)
         oracle.reset("cut the cucumber in the middle")
@@ -34,7 +36,7 @@ def approach_until_slow(address: str, session: str, deadline_s: float) -> int:
             try:
                 hurried.step(session, mode, values)
             except DeadlineExceeded:
-                return applied
+                return applied, mode, values
             applied += 1
     raise AssertionError("no step was slow: the knife never came near the food")
 
@@ -43,7 +45,7 @@ def test_a_step_past_its_deadline_is_not_applied():
     with ServerProcess(server_binary(), max_sessions=2) as server, Client(server.address, timeout_s=30.0) as client:
         session = client.create_session(SLOW_SCENE).session_id
         client.reset(session, seed=0)
-        applied = approach_until_slow(server.address, session, deadline_s=1.0)
+        applied, _, _ = approach_until_slow(server.address, session, deadline_s=1.0)
         assert applied > 0
         # The abandoned step was rolled back: the state is the one after the last applied step.
         time.sleep(0.2)
@@ -56,13 +58,13 @@ def test_sigterm_during_a_long_step_exits_within_2_s():
         with Client(server.address, timeout_s=30.0) as client:
             session = client.create_session(SLOW_SCENE).session_id
             client.reset(session, seed=0)
-            approach_until_slow(server.address, session, deadline_s=1.0)
+            _, mode, values = approach_until_slow(server.address, session, deadline_s=1.0)
             # The same slow step again, now without a short deadline, on a thread of its own.
             errors: list[Exception] = []
 
             def long_step():
                 try:
-                    client.step(session, "pd_joint_delta_pos", np.zeros(7))
+                    client.step(session, mode, values)
                 except CulinaryCutError as err:  # the server goes away mid-call
                     errors.append(err)
 
@@ -75,6 +77,7 @@ def test_sigterm_during_a_long_step_exits_within_2_s():
             elapsed = time.monotonic() - started
             stepping.join(timeout=10)
         assert elapsed < 2.0, f"exit took {elapsed:.2f} s; output:\n{server.output()}"
+        assert stepping.is_alive() is False and errors, "the long step should have been cut short"
         assert code == 0, server.output()
     finally:
         server.kill()
