@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""How pd_ee_pose converges: random knife poses above the board, each from the ready pose, driven
+"""How pd_ee_pose_quat converges: random knife poses above the board, each from the ready pose, driven
 through the real server. Writes docs/benchmarks/ee_pose_tracking.md and a plot in docs/images/.
 
 Usage: .venv/bin/python bench/ee_pose_tracking.py [--targets 24] [--seed 0]
@@ -37,13 +37,13 @@ def random_target(rng: np.random.Generator) -> np.ndarray:
 
 
 def track(client: Client, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Position (m) and angle (rad) error after each of HORIZON_STEPS pd_ee_pose steps."""
+    """Position (m) and angle (rad) error after each of HORIZON_STEPS pd_ee_pose_quat steps."""
     sid = client.create_session(None).session_id
     try:
         client.reset(sid, seed=0)
         position_error, angle_error = [], []
         for _ in range(HORIZON_STEPS):
-            tcp = np.asarray(client.step(sid, "pd_ee_pose", target).observation.tcp_pose)
+            tcp = np.asarray(client.step(sid, "pd_ee_pose_quat", target).observation.tcp_pose)
             position_error.append(np.linalg.norm(tcp[:3] - target[:3]))
             angle_error.append(quat_angle(tcp[3:], target[3:]))
         return np.array(position_error), np.array(angle_error)
@@ -96,7 +96,7 @@ def main() -> int:
         right.semilogy(t, np.maximum(np.rad2deg(angle_error), 1e-4), color="tab:orange", alpha=0.5)
     left.axhline(1.0, color="k", linestyle="--", label="1 mm")
     right.axhline(1.0, color="k", linestyle="--", label="1 deg")
-    left.set(xlabel="sim time (s)", ylabel="TCP position error (mm)", title=f"pd_ee_pose, {len(runs)} random targets")
+    left.set(xlabel="sim time (s)", ylabel="TCP position error (mm)", title=f"pd_ee_pose_quat, {len(runs)} random targets")
     right.set(xlabel="sim time (s)", ylabel="TCP orientation error (deg)", title="from the ready pose, 20 Hz control")
     left.legend()
     right.legend()
@@ -106,7 +106,7 @@ def main() -> int:
     machine = machine_info()
     reached = np.isfinite(times)
     report = [
-        "# pd_ee_pose tracking",
+        "# pd_ee_pose_quat tracking",
         "",
         f"Measured {time.strftime('%Y-%m-%dT%H:%M:%S%z')} on {machine['cpu_model']}, {machine['cores']} cores, "
         f"through the real server (`bench/ee_pose_tracking.py --targets {args.targets} --seed {args.seed}`).",

@@ -6,7 +6,7 @@ cucumber-sized box as the object) and the planned TCP path is drawn with the one
 Writes docs/images/cut_trajectories.png and docs/benchmarks/oracle_tracking.md (how closely the
 knife followed each plan, and how the resulting blade plane scores).
 
-Usage: .venv/bin/python bench/plot_cut_trajectories.py [--control-mode pd_ee_pose] [--seed 0]
+Usage: .venv/bin/python bench/plot_cut_trajectories.py [--control-mode pd_ee_pose_quat] [--seed 0]
 Needs python3-matplotlib (Debian).
 """
 from __future__ import annotations
@@ -105,7 +105,7 @@ def plot(results: list[tuple[str, str, dict]], path: Path) -> None:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--control-mode", default="pd_ee_pose")
+    parser.add_argument("--control-mode", default="pd_ee_pose_quat")
     parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args()
     results = []

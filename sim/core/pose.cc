@@ -1,5 +1,8 @@
 #include "sim/core/pose.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <cmath>
 
 namespace culinarycut {
@@ -37,6 +40,19 @@ Eigen::Matrix3d RotationFromAxisAngle(const Eigen::Vector3d& axis_angle) {
   const double angle = axis_angle.norm();
   if (angle < 1e-15) return Eigen::Matrix3d::Identity();
   return Eigen::AngleAxisd(angle, axis_angle / angle).toRotationMatrix();
+}
+
+Eigen::Matrix3d RotationFromEulerXyz(const Eigen::Vector3d& angles_rad) {
+  return (Eigen::AngleAxisd(angles_rad.x(), Eigen::Vector3d::UnitX()) *
+          Eigen::AngleAxisd(angles_rad.y(), Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(angles_rad.z(), Eigen::Vector3d::UnitZ()))
+      .toRotationMatrix();
+}
+
+Eigen::Vector3d EulerXyzFromRotation(const Eigen::Matrix3d& r) {
+  // R = Rx(a) Ry(b) Rz(c): R02 = sin b, R12 = -sin a cos b, R22 = cos a cos b, R01 = -cos b sin c, R00 = cos b cos c.
+  return Eigen::Vector3d(std::atan2(-r(1, 2), r(2, 2)), std::asin(std::clamp(r(0, 2), -1.0, 1.0)),
+                         std::atan2(-r(0, 1), r(0, 0)));
 }
 
 double AngleBetween(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {

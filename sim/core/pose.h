@@ -27,6 +27,12 @@ Eigen::Vector3d OrientationError(const Eigen::Matrix3d& from, const Eigen::Matri
 // Rotation matrix from an axis-angle vector (rad).
 Eigen::Matrix3d RotationFromAxisAngle(const Eigen::Vector3d& axis_angle);
 
+// Rotation from intrinsic X-Y-Z Euler angles [a, b, c] (rad): Rx(a) Ry(b) Rz(c), the "XYZ"
+// convention of ManiSkill's end-effector controllers (pytorch3d's euler_angles_to_matrix).
+Eigen::Matrix3d RotationFromEulerXyz(const Eigen::Vector3d& angles_rad);
+// Its inverse: b in [-pi/2, pi/2], a and c in (-pi, pi].
+Eigen::Vector3d EulerXyzFromRotation(const Eigen::Matrix3d& rotation);
+
 // Angle (rad) between two orientations, in [0, pi].
 double AngleBetween(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b);
 

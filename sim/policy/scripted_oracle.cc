@@ -22,11 +22,6 @@ Eigen::Isometry3d TcpInWorld(const Model& model, const Eigen::VectorXd& qpos_rad
   return model.robot_base_in_world * TipPose(model.robot, qpos_rad, model.tcp_in_last_link);
 }
 
-Eigen::VectorXd ClipToBounds(Eigen::VectorXd values, const ActionBounds& bounds) {
-  for (int i = 0; i < values.size(); ++i) values[i] = std::clamp(values[i], bounds.low[i], bounds.high[i]);
-  return values;
-}
-
 }  // namespace
 
 const task::ObjectBox& FindTargetObject(const std::vector<task::ObjectBox>& objects,
@@ -68,24 +63,36 @@ Eigen::VectorXd ScriptedOracle::Act(const Model& model, const Eigen::VectorXd& q
   // Aim where the plan will be when this control step ends.
   const double plan_time_s = now_s - start_time_s_ + model.control_timestep_s;
   const Eigen::Isometry3d goal = trajectory_.Sample(plan_time_s).tcp_pose;
-  const ActionBounds bounds = ActionBoundsFor(model, control_mode_);
+  const Eigen::Isometry3d goal_in_base = model.robot_base_in_world.inverse() * goal;
+  const Eigen::Isometry3d tcp_in_base = model.robot_base_in_world.inverse() * TcpInWorld(model, qpos_rad);
+  // Normalised modes: the step's motion divided by what [-1, 1] means, clipped as the controller would.
+  const Eigen::Vector3d position_step = (goal_in_base.translation() - tcp_in_base.translation()) / kDeltaPositionScaleM;
   switch (control_mode_) {
-    case ControlMode::kEndEffectorPose:
+    case ControlMode::kEndEffectorPoseQuat:
       return PoseToVector(goal);
+    case ControlMode::kEndEffectorPose: {
+      Eigen::VectorXd pose(6);
+      pose << goal_in_base.translation(), EulerXyzFromRotation(goal_in_base.linear());
+      return pose;
+    }
+    case ControlMode::kEndEffectorDeltaPosition:
+      return position_step.cwiseMax(-1.0).cwiseMin(1.0);
     case ControlMode::kEndEffectorDeltaPose: {
-      const Eigen::Isometry3d tcp = TcpInWorld(model, qpos_rad);
       Eigen::VectorXd delta(6);
-      delta.head<3>() = goal.translation() - tcp.translation();
-      delta.tail<3>() = OrientationError(tcp.linear(), goal.linear());
-      return ClipToBounds(delta, bounds);
+      delta.head<3>() = position_step.cwiseMax(-1.0).cwiseMin(1.0);
+      // The controller applies q = dq * q_tcp in the root frame: dq = q_goal * q_tcp^-1.
+      Eigen::Vector3d rotation_step =
+          EulerXyzFromRotation(goal_in_base.linear() * tcp_in_base.linear().transpose()) / kDeltaRotationScaleRad;
+      if (rotation_step.norm() > 1.0) rotation_step.normalize();
+      delta.tail<3>() = rotation_step;
+      return delta;
     }
     case ControlMode::kJointPosition:
     case ControlMode::kJointDeltaPosition: {
-      const Eigen::Isometry3d goal_in_base = model.robot_base_in_world.inverse() * goal;
       const IkResult ik =
           SolveInverseKinematics(model.robot, model.tcp_in_last_link, goal_in_base, qpos_rad);
       if (control_mode_ == ControlMode::kJointPosition) return ik.q_rad;
-      return ClipToBounds(ik.q_rad - qpos_rad, bounds);
+      return ((ik.q_rad - qpos_rad) / kDeltaJointScaleRad).cwiseMax(-1.0).cwiseMin(1.0);
     }
   }
   return {};

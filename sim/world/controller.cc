@@ -38,7 +38,7 @@ std::optional<std::string> ValidateAction(const Model& model, const Action& acti
       return error.str();
     }
   }
-  if (action.mode == ControlMode::kEndEffectorPose && action.values.segment<4>(3).cwiseAbs().maxCoeff() == 0.0) {
+  if (action.mode == ControlMode::kEndEffectorPoseQuat && action.values.segment<4>(3).cwiseAbs().maxCoeff() == 0.0) {
     return "action.values[3:7] (quaternion qw, qx, qy, qz) has zero norm; give a unit quaternion, e.g. [0, 1, 0, 0] "
            "for the knife pointing down";
   }
@@ -50,31 +50,50 @@ JointTarget ComputeJointTarget(const Model& model, const Eigen::VectorXd& q_meas
   Eigen::VectorXd values = action.values;
   // A quaternion of any positive norm is valid (ValidateAction refused zero): normalise it, so
   // clipping never changes its direction.
-  if (action.mode == ControlMode::kEndEffectorPose) {
+  if (action.mode == ControlMode::kEndEffectorPoseQuat) {
     values.segment<4>(3) = *NormalizedQuaternion(values.segment<4>(3));
   }
-  target.clipped = ClipToBounds(&values, ActionBoundsFor(model, action.mode));
+  if (action.mode == ControlMode::kEndEffectorDeltaPose) {
+    // ManiSkill3 PDEEPoseController._clip_and_scale_action: position clipped per element, the
+    // rotation by its norm, so a large rotation keeps its axis.
+    Eigen::VectorXd position = values.head<3>();
+    target.clipped = ClipToBounds(&position, ActionBounds{{-1, -1, -1}, {1, 1, 1}, ""});
+    values.head<3>() = position;
+    const double rotation_norm = values.tail<3>().norm();
+    if (rotation_norm > 1.0) {
+      values.tail<3>() /= rotation_norm;
+      target.clipped = true;
+    }
+  } else {
+    target.clipped = ClipToBounds(&values, ActionBoundsFor(model, action.mode));
+  }
+  const Eigen::Isometry3d base_to_world = model.robot_base_in_world;
+  Eigen::Isometry3d goal_in_base = Eigen::Isometry3d::Identity();
   switch (action.mode) {
     case ControlMode::kJointPosition:
       target.q_target_rad = values;
       return target;
-    case ControlMode::kJointDeltaPosition:
-      target.q_target_rad = ClampToJointLimits(model.robot, q_measured_rad + values, 0.0);
+    case ControlMode::kJointDeltaPosition:  // ManiSkill3 PDJointPosController, use_delta: qpos + action
+      target.q_target_rad = ClampToJointLimits(model.robot, q_measured_rad + kDeltaJointScaleRad * values, 0.0);
       return target;
-    case ControlMode::kEndEffectorPose:
+    case ControlMode::kEndEffectorDeltaPosition:
     case ControlMode::kEndEffectorDeltaPose:
+      // ManiSkill3 PDEEPoseController.compute_target_pose, frame "root_translation:root_aligned_body_rotation":
+      // p = p_tcp + dp and q = dq * q_tcp, both in the root frame, from the measured TCP pose.
+      goal_in_base = TipPose(model.robot, q_measured_rad, model.tcp_in_last_link);
+      goal_in_base.translation() += kDeltaPositionScaleM * values.head<3>();
+      if (action.mode == ControlMode::kEndEffectorDeltaPose) {
+        goal_in_base.linear() = RotationFromEulerXyz(kDeltaRotationScaleRad * values.tail<3>()) * goal_in_base.linear();
+      }
+      break;
+    case ControlMode::kEndEffectorPose:  // ManiSkill3 PDEEPoseController, use_delta false: [p, XYZ Euler] in the root
+      goal_in_base.translation() = values.head<3>();
+      goal_in_base.linear() = RotationFromEulerXyz(values.tail<3>());
+      break;
+    case ControlMode::kEndEffectorPoseQuat:
+      goal_in_base = base_to_world.inverse() * PoseFromVector(values);
       break;
   }
-  // Goals are built in the world frame, then moved into the robot base frame for IK.
-  Eigen::Isometry3d goal_in_world;
-  if (action.mode == ControlMode::kEndEffectorPose) {
-    goal_in_world = PoseFromVector(values);
-  } else {
-    goal_in_world = model.robot_base_in_world * TipPose(model.robot, q_measured_rad, model.tcp_in_last_link);
-    goal_in_world.translation() += values.head<3>();
-    goal_in_world.linear() = RotationFromAxisAngle(values.tail<3>()) * goal_in_world.linear();
-  }
-  const Eigen::Isometry3d goal_in_base = model.robot_base_in_world.inverse() * goal_in_world;
   target.ik = SolveInverseKinematics(model.robot, model.tcp_in_last_link, goal_in_base, q_measured_rad);
   target.q_target_rad = target.ik->q_rad;
   return target;

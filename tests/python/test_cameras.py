@@ -106,7 +106,7 @@ def test_images_are_deterministic_and_png_is_lossless(client):
 def test_the_wrist_camera_moves_with_the_robot_and_the_world_cameras_stay(client):
     handshake, response = reset_observation(client, {"cameras": [{"name": "wrist"}, {"name": "front"}]})
     before = observation_to_dict(response.observation)["sensor_param"]
-    step = client.step(handshake.session_id, "pd_ee_delta_pose", [0.0, 0.05, 0.0, 0.0, 0.0, 0.0])
+    step = client.step(handshake.session_id, "pd_ee_delta_pose", [0.0, 0.5, 0.0, 0.0, 0.0, 0.0])
     after = observation_to_dict(step.observation)["sensor_param"]
     moved_m = np.linalg.norm(after["wrist"]["cam2world_gl"][:3, 3] - before["wrist"]["cam2world_gl"][:3, 3])
     assert moved_m > 0.005

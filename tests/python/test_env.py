@@ -45,8 +45,10 @@ def fingerprint(response) -> bytes:
     return copy.SerializeToString(deterministic=True)
 
 
-@pytest.mark.parametrize("mode, dim, bound", [("pd_joint_pos", 7, None), ("pd_joint_delta_pos", 7, 0.1),
-                                              ("pd_ee_pose", 7, None), ("pd_ee_delta_pose", 6, 0.1)])
+# ManiSkill's normalised modes are bounded by [-1, 1]; the absolute ones by the joint limits or workspace.
+@pytest.mark.parametrize("mode, dim, bound", [("pd_joint_pos", 7, None), ("pd_joint_delta_pos", 7, 1.0),
+                                              ("pd_ee_delta_pos", 3, 1.0), ("pd_ee_delta_pose", 6, 1.0),
+                                              ("pd_ee_pose", 6, None), ("pd_ee_pose_quat", 7, None)])
 def test_action_space_from_handshake(address, mode, dim, bound):
     with CulinaryCutEnv(address, control_mode=mode) as env:
         space = env.action_space
@@ -131,7 +133,7 @@ def test_env_reset_seeding_follows_gymnasium(address):
 
 @pytest.mark.parametrize("target_kind", ["canonical", "offset_and_rotated"])
 def test_ee_pose_reaches_target_within_1mm_1deg(address, target_kind):
-    with CulinaryCutEnv(address, control_mode="pd_ee_pose") as env:
+    with CulinaryCutEnv(address, control_mode="pd_ee_pose_quat") as env:
         obs, _ = env.reset(seed=0)
         tcp0 = obs["extra"]["tcp_pose"]
         if target_kind == "canonical":
@@ -155,9 +157,9 @@ def test_ee_pose_reaches_target_within_1mm_1deg(address, target_kind):
 
 
 def test_out_of_bounds_action_is_clipped_not_rejected(client, session):
-    response = client.step(session, "pd_joint_delta_pos", [0.5, 0, 0, 0, 0, 0, 0])
+    response = client.step(session, "pd_joint_delta_pos", [5, 0, 0, 0, 0, 0, 0])  # normalised: [-1, 1]
     assert response.info.action_clipped
-    response = client.step(session, "pd_joint_delta_pos", [0.05, 0, 0, 0, 0, 0, 0])
+    response = client.step(session, "pd_joint_delta_pos", [0.5, 0, 0, 0, 0, 0, 0])
     assert not response.info.action_clipped
 
 
@@ -171,9 +173,9 @@ def mixed_actions(seed: int, n: int = 20):
     actions = []
     for i in range(n):
         if i % 2:
-            actions.append(("pd_ee_delta_pose", rng.uniform(-0.01, 0.01, 6)))
+            actions.append(("pd_ee_delta_pose", rng.uniform(-0.1, 0.1, 6)))  # normalised: 1 cm, 0.01 rad
         else:
-            actions.append(("pd_joint_delta_pos", rng.uniform(-0.05, 0.05, 7)))
+            actions.append(("pd_joint_delta_pos", rng.uniform(-0.5, 0.5, 7)))  # normalised: 0.05 rad
     return actions
 
 
@@ -203,8 +205,8 @@ def test_snapshot_restore_reproduces_next_20_steps_bit_exactly(client, session):
 
 def test_concurrent_sessions_are_independent_and_deterministic(address):
     rng = np.random.default_rng(5)
-    x = [("pd_joint_delta_pos", a) for a in rng.uniform(-0.05, 0.05, (30, 7))]
-    y = [("pd_ee_delta_pose", a) for a in rng.uniform(-0.01, 0.01, (30, 6))]
+    x = [("pd_joint_delta_pos", a) for a in rng.uniform(-0.5, 0.5, (30, 7))]  # normalised
+    y = [("pd_ee_delta_pose", a) for a in rng.uniform(-0.1, 0.1, (30, 6))]
     neg_x = [(m, -a) for m, a in x]
     plans = [x, x, y, neg_x]  # sessions 0 and 1 must agree; 2 and 3 must differ from them
     results: list[list[bytes] | None] = [None] * len(plans)
@@ -247,7 +249,7 @@ def test_concurrent_sessions_are_independent_and_deterministic(address):
 def test_joint_delta_moves_the_commanded_joint(client, session, joint, sign):
     q0 = np.array(client.observe(session).observation.agent.qpos)
     action = np.zeros(7)
-    action[joint] = sign * 0.05  # rad per step
+    action[joint] = sign * 0.5  # normalised: 0.05 rad per step
     for _ in range(5):
         response = client.step(session, "pd_joint_delta_pos", action)
     dq = np.array(response.observation.agent.qpos) - q0
@@ -261,7 +263,7 @@ def test_joint_delta_moves_the_commanded_joint(client, session, joint, sign):
 def test_ee_delta_moves_in_the_commanded_direction(client, session, axis, sign):
     tcp0 = np.array(client.observe(session).observation.tcp_pose)
     action = np.zeros(6)
-    action[axis] = sign * 0.02  # m or rad per step
+    action[axis] = sign * 0.2  # normalised: 0.02 m or rad per step
     for _ in range(5):
         response = client.step(session, "pd_ee_delta_pose", action)
     tcp = np.array(response.observation.tcp_pose)

@@ -87,7 +87,7 @@ def test_score_cuts_through_the_client(client):
 def test_scripted_oracle_runs_a_cut_on_a_session(client, session):
     oracle = ScriptedOracle(client, session)
     plan = oracle.reset("saw the cucumber at 30% from the right", objects=[APPLE, CUCUMBER],
-                        control_mode="pd_ee_pose", seed=2)
+                        control_mode="pd_ee_pose_quat", seed=2)
     assert plan["target_name"] == "cucumber_0"
     assert plan["spec"]["style"] == "saw"
     target = plan["cuts"][0]["target_point_m"]
@@ -96,7 +96,7 @@ def test_scripted_oracle_runs_a_cut_on_a_session(client, session):
         mode, values = oracle.act()
         if oracle.finished:
             break
-        assert mode == "pd_ee_pose" and values.shape == (7,)
+        assert mode == "pd_ee_pose_quat" and values.shape == (7,)
         phases.add(oracle.phase)
         tcp = np.asarray(client.step(session, mode, values).observation.tcp_pose)
         lowest_z = min(lowest_z, tcp[2])

@@ -60,7 +60,7 @@ TEST_CASE("server info reports version, capabilities, control modes and limits",
   const v1::ServerInfo info = client.GetServerInfo();
   CHECK(info.protocol() == "culinarycut.v1");
   CHECK_FALSE(info.version().empty());
-  CHECK(info.control_modes_size() == 4);
+  CHECK(info.control_modes_size() == 6);
   CHECK(info.limits().max_sessions() == 3);
 }
 
@@ -68,7 +68,7 @@ TEST_CASE("the C++ client drives the knife to a target over the wire", "[server]
   server::SimulationServer server(TestOptions());
   Client client(server.address());
   auto session = client.CreateSession();
-  CHECK(session->handshake().control_modes_size() == 4);
+  CHECK(session->handshake().control_modes_size() == 6);
   CHECK(session->handshake().control_timestep() == Approx(0.05));
   const Observation start = session->Reset(0);
   REQUIRE(start.qpos.size() == 7);
@@ -76,7 +76,7 @@ TEST_CASE("the C++ client drives the knife to a target over the wire", "[server]
 
   const std::vector<double> target = {0.5, 0.05, 0.12, 0.0, 1.0, 0.0, 0.0};  // above the board, edge down
   Observation observation;
-  for (int step = 0; step < 60; ++step) observation = session->Step("pd_ee_pose", target).observation;
+  for (int step = 0; step < 60; ++step) observation = session->Step("pd_ee_pose_quat", target).observation;
   CHECK(observation.frame_id == 60);
   CHECK(observation.sim_time == Approx(3.0));
   CHECK(Distance(observation.tcp_pose, target) < 1e-3);
@@ -88,12 +88,12 @@ TEST_CASE("snapshot then restore reproduces the same trajectory exactly, over th
   Client client(server.address());
   auto session = client.CreateSession();
   session->Reset(3);
-  for (int i = 0; i < 5; ++i) session->Step("pd_ee_delta_pose", {0.01, 0.0, -0.01, 0.0, 0.0, 0.02});
+  for (int i = 0; i < 5; ++i) session->Step("pd_ee_delta_pose", {0.1, 0.0, -0.1, 0.0, 0.0, 0.2});
   const std::string snapshot = session->SaveSnapshot();
   auto rollout = [&] {
     std::vector<std::vector<double>> trajectory;
     for (int i = 0; i < 20; ++i) {
-      const Observation o = session->Step("pd_joint_delta_pos", {0.02, -0.01, 0.0, 0.03, 0.0, -0.02, 0.05}).observation;
+      const Observation o = session->Step("pd_joint_delta_pos", {0.2, -0.1, 0.0, 0.3, 0.0, -0.2, 0.5}).observation;
       trajectory.push_back(o.qpos);
       trajectory.push_back(o.qvel);
     }
@@ -118,7 +118,7 @@ TEST_CASE("four concurrent sessions stay independent and equal seeds and actions
       // Sessions 0 and 1 get the same actions; 2 and 3 move elsewhere.
       const double direction = i < 2 ? 1.0 : -1.0 * i;
       for (int step = 0; step < 30; ++step) {
-        finals[i] = sessions[i]->Step("pd_ee_delta_pose", {0.0, 0.01 * direction, -0.005, 0.0, 0.0, 0.0}).observation;
+        finals[i] = sessions[i]->Step("pd_ee_delta_pose", {0.0, 0.1 * direction, -0.05, 0.0, 0.0, 0.0}).observation;
       }
     });
   }
@@ -131,7 +131,7 @@ TEST_CASE("four concurrent sessions stay independent and equal seeds and actions
   auto replay = client.CreateSession();
   replay->Reset(7);
   Observation alone;
-  for (int step = 0; step < 30; ++step) alone = replay->Step("pd_ee_delta_pose", {0.0, 0.01, -0.005, 0.0, 0.0, 0.0}).observation;
+  for (int step = 0; step < 30; ++step) alone = replay->Step("pd_ee_delta_pose", {0.0, 0.1, -0.05, 0.0, 0.0, 0.0}).observation;
   CHECK(alone.qpos == finals[0].qpos);
 }
 
@@ -166,8 +166,8 @@ TEST_CASE("bad input gets a clear status and the server keeps serving", "[server
   still_serving();
   CHECK_THAT(MessageOf([&] { session->Step("pd_ee_twist", {0, 0, 0, 0, 0, 0}); }), Catch::Contains("control_mode"));
   still_serving();
-  CHECK(CodeOf([&] { session->Step("pd_ee_pose", {0.5, 0, 0.2, 0, 0, 0, 0}); }) == grpc::StatusCode::INVALID_ARGUMENT);
-  CHECK_THAT(MessageOf([&] { session->Step("pd_ee_pose", {0.5, 0, 0.2, 0, 0, 0, 0}); }), Catch::Contains("quaternion"));
+  CHECK(CodeOf([&] { session->Step("pd_ee_pose_quat", {0.5, 0, 0.2, 0, 0, 0, 0}); }) == grpc::StatusCode::INVALID_ARGUMENT);
+  CHECK_THAT(MessageOf([&] { session->Step("pd_ee_pose_quat", {0.5, 0, 0.2, 0, 0, 0, 0}); }), Catch::Contains("quaternion"));
   still_serving();
   CHECK(CodeOf([&] { session->RestoreSnapshot("not a snapshot"); }) == grpc::StatusCode::INVALID_ARGUMENT);
   still_serving();

@@ -147,7 +147,7 @@ TEST_CASE("a planned cut scores as a success, a cut on the wrong side does not",
 TEST_CASE("the scripted oracle cuts through the target in every control mode", "[server][tasks][oracle]") {
   server::SimulationServer server(TestOptions());
   Client client(server.address());
-  const std::string mode = GENERATE("pd_ee_delta_pose", "pd_ee_pose", "pd_joint_pos", "pd_joint_delta_pos");
+  const std::string mode = GENERATE("pd_ee_delta_pose", "pd_ee_pose", "pd_ee_pose_quat", "pd_joint_pos", "pd_joint_delta_pos");
   auto session = client.CreateSession();
   session->Reset(3);
 

@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
     for (double height : {0.15, 0.06, 0.15}) {
       std::vector<double> target(above_board, above_board + 7);
       target[2] = height;
-      for (int step = 0; step < 40; ++step) observation = session->Step("pd_ee_pose", target).observation;
+      for (int step = 0; step < 40; ++step) observation = session->Step("pd_ee_pose_quat", target).observation;
       const double error_mm = 1000.0 * std::sqrt(std::pow(observation.tcp_pose[0] - target[0], 2) +
                                                   std::pow(observation.tcp_pose[1] - target[1], 2) +
                                                   std::pow(observation.tcp_pose[2] - target[2], 2));

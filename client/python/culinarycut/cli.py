@@ -19,7 +19,7 @@ WAYPOINTS = [(0.50, 0.00, 0.25), (0.50, 0.06, 0.20), (0.50, -0.06, 0.20), (0.50,
 REACH_TOL_M = 0.002          # a waypoint counts as reached within 2 mm ...
 REACH_TOL_RAD = np.deg2rad(2)  # ... and 2 degrees
 MAX_STEPS_PER_WAYPOINT = 60  # 3 s at 20 Hz
-DESCENT_STEP_M = 0.01        # pd_ee_delta_pose descent per step
+DESCENT_STEP_M = 0.01        # pd_ee_delta_pose descent per step (m; the action is normalised by 0.1 m)
 DESCENT_STEPS = 5            # at most 5 cm down: stays >= 8 cm above the board top
 
 
@@ -56,9 +56,9 @@ def cmd_info(args) -> int:
 
 
 def _reach(client, sid, target, label) -> None:
-    """Step pd_ee_pose towards target until within tolerance, printing one line at the end."""
+    """Step pd_ee_pose_quat towards target until within tolerance, printing one line at the end."""
     for _ in range(MAX_STEPS_PER_WAYPOINT):
-        response = client.step(sid, "pd_ee_pose", target)
+        response = client.step(sid, "pd_ee_pose_quat", target)
         tcp = np.asarray(response.observation.tcp_pose)
         pos_err = np.linalg.norm(tcp[:3] - target[:3])
         ang_err = quat_angle(tcp[3:], target[3:])
@@ -86,12 +86,12 @@ def _demo(client: Client) -> None:
         quat = tcp0[3:] if tool_z[2] < -0.95 else KNIFE_DOWN
 
         for i, wp in enumerate(WAYPOINTS, 1):
-            _reach(client, sid, np.concatenate([wp, quat]), f"pd_ee_pose wp {i}/{len(WAYPOINTS)}")
+            _reach(client, sid, np.concatenate([wp, quat]), f"pd_ee_pose_quat wp {i}/{len(WAYPOINTS)}")
 
         tcp = np.asarray(client.observe(sid).observation.tcp_pose[:3])
         for i in range(1, DESCENT_STEPS + 1):
             target = tcp + [0.0, 0.0, -DESCENT_STEP_M]  # deltas are relative to the TCP at each step
-            response = client.step(sid, "pd_ee_delta_pose", [0, 0, -DESCENT_STEP_M, 0, 0, 0])
+            response = client.step(sid, "pd_ee_delta_pose", [0, 0, -DESCENT_STEP_M / 0.1, 0, 0, 0])
             print(_line(f"pd_ee_delta_pose dz {i}/{DESCENT_STEPS}", response, target))
             tcp = np.asarray(response.observation.tcp_pose[:3])
 

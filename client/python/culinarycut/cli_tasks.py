@@ -114,6 +114,6 @@ def register(sub, common: argparse.ArgumentParser) -> None:
                             help="run the scripted oracle on a robot-only session (a cucumber-sized box)")
     oracle.add_argument("instruction", nargs="?", default="cut the cucumber at 0.3 ratio from the left")
     oracle.add_argument("--control-mode", default="pd_ee_delta_pose",
-                        choices=["pd_ee_delta_pose", "pd_ee_pose", "pd_joint_pos", "pd_joint_delta_pos"])
+                        choices=["pd_ee_delta_pose", "pd_ee_pose", "pd_ee_pose_quat", "pd_joint_pos", "pd_joint_delta_pos"])
     oracle.add_argument("--seed", type=int, default=0)
     oracle.set_defaults(func=cmd_oracle)

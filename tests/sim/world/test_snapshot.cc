@@ -16,7 +16,7 @@ std::vector<Eigen::VectorXd> Rollout(const Model& model, State* state, int steps
   for (int i = 0; i < steps; ++i) {
     const double phase = 0.3 * i;
     Action action{ControlMode::kEndEffectorDeltaPose,
-                  (Eigen::VectorXd(6) << 0.01 * std::sin(phase), 0.01 * std::cos(phase), -0.005, 0, 0, 0.02).finished()};
+                  (Eigen::VectorXd(6) << 0.1 * std::sin(phase), 0.1 * std::cos(phase), -0.05, 0, 0, 0.2).finished()};  // normalised
     Step(model, state, action);
     const RobotObservation observation = ObserveRobot(model, *state);
     Eigen::VectorXd row(14);

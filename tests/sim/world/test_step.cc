@@ -10,7 +10,7 @@ using namespace culinarycut;
 
 namespace {
 
-Action PoseAction(const Eigen::Isometry3d& pose) { return Action{ControlMode::kEndEffectorPose, PoseToVector(pose)}; }
+Action PoseAction(const Eigen::Isometry3d& pose) { return Action{ControlMode::kEndEffectorPoseQuat, PoseToVector(pose)}; }
 
 // Reachable knife poses: the TCP of joint configurations near the ready pose, above the table.
 std::vector<Eigen::Isometry3d> RandomReachableTargets(const Model& model, int count, std::uint64_t seed) {
@@ -29,7 +29,7 @@ std::vector<Eigen::Isometry3d> RandomReachableTargets(const Model& model, int co
 
 }  // namespace
 
-TEST_CASE("pd_ee_pose reaches random targets within 1 mm and 1 degree in 3 s, inside the joint limits", "[step]") {
+TEST_CASE("pd_ee_pose_quat reaches random targets within 1 mm and 1 degree in 3 s, inside the joint limits", "[step]") {
   const auto model = testing::DefaultModel();
   const int max_steps = static_cast<int>(3.0 / model->control_timestep_s);
   int index = 0;
@@ -78,7 +78,7 @@ TEST_CASE("same seed and actions give identical observations", "[step]") {
   State a, b;
   ResetState(*model, &a, 9, {});
   ResetState(*model, &b, 9, {});
-  const Action action{ControlMode::kEndEffectorDeltaPose, (Eigen::VectorXd(6) << 0.01, -0.02, -0.03, 0.0, 0.05, 0.0).finished()};
+  const Action action{ControlMode::kEndEffectorDeltaPose, (Eigen::VectorXd(6) << 0.1, -0.2, -0.3, 0.0, 0.5, 0.0).finished()};  // normalised
   for (int i = 0; i < 20; ++i) {
     Step(*model, &a, action);
     Step(*model, &b, action);
