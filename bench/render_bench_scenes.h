@@ -10,10 +10,20 @@
 #include "sim/mpm/food_shapes.h"
 #include "sim/render/camera.h"
 #include "sim/render/particle_view.h"
+#include "sim/render/renderer.h"
 #include "sim/robot/inverse_kinematics.h"
 #include "sim/robot/kinematics.h"
+#include "sim/robot/robot_description.h"
 
 namespace culinarycut::render::bench {
+
+// Renderer options that draw the shipped Panda with knife, as the robot description reads it.
+inline RendererOptions PandaRendererOptions() {
+  RendererOptions options;
+  options.robot = LoadRobotDescription(AssetsDir() + "/panda/panda_knife.urdf", "knife_tcp").visuals;
+  return options;
+}
+
 
 struct FoodParticles : ParticleArrays {
   Eigen::Vector3d center_m = Eigen::Vector3d::Zero();

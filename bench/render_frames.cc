@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
   using namespace culinarycut::render;
   const std::string out_dir = argc > 1 ? argv[1] : "docs/images";
   try {
-    auto renderer = Renderer::Create();
+    auto renderer = Renderer::Create(bench::PandaRendererOptions());
     std::printf("renderer: %s\n", renderer->device_description().c_str());
     const culinarycut::SceneLayout layout;
     for (const bool cut : {false, true}) {

@@ -15,7 +15,7 @@
 namespace culinarycut::render {
 
 Renderer& SharedRenderer() {
-  static const std::unique_ptr<Renderer> renderer = Renderer::Create();
+  static const std::unique_ptr<Renderer> renderer = Renderer::Create(bench::PandaRendererOptions());
   return *renderer;
 }
 

@@ -49,7 +49,7 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   sessions_ = std::make_unique<SessionManager>(options.max_sessions,
                                                std::chrono::duration<double>(options.idle_timeout_s));
   render::RendererOptions render_options;
-  render_options.robot_urdf_path = urdf;
+  render_options.robot = robot.visuals;  // the URDF parsed once, by the robot description
   renderer_ = std::make_unique<SharedRenderer>(render_options);
   service_ = std::make_unique<SimulatorService>(std::move(robot), sessions_.get(), telemetry_.get(), renderer_.get(),
                                                 SnapshotSeal(options.snapshot_key_file));

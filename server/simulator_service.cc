@@ -17,7 +17,7 @@ SimulatorService::SimulatorService(RobotDescription robot, SessionManager* sessi
     : robot_(std::move(robot)), sessions_(sessions), telemetry_(telemetry), renderer_(renderer), seal_(std::move(seal)) {}
 
 double SimulatorService::ObserveToWire(Session& session, v1::FrameStamp* stamp, v1::Observation* wire) {
-  render::Renderer* renderer = session.model->cameras.empty() ? nullptr : &renderer_->Get();
+  render::CameraRenderer* renderer = session.model->cameras.empty() ? nullptr : &renderer_->Get();
   const Observation observation = culinarycut::Observe(*session.model, session.state, renderer);
   StageTimes render_time;
   render_time[Stage::kRender] = observation.render_wall_time_ms;

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "culinarycut/v1/simulator.pb.h"
-#include "sim/render/renderer.h"
+#include "sim/render/camera_renderer.h"
 #include "sim/world/model.h"
 
 namespace culinarycut::server {

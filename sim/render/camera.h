@@ -12,7 +12,7 @@
 
 #include <Eigen/Geometry>
 
-#include "sim/world/scene_layout.h"
+#include "sim/core/scene_layout.h"
 
 namespace culinarycut::render {
 

@@ -7,7 +7,7 @@
 #include <Eigen/Geometry>
 
 #include "sim/render/particle_view.h"
-#include "sim/world/scene_layout.h"
+#include "sim/core/scene_layout.h"
 
 namespace culinarycut::render {
 

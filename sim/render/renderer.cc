@@ -66,9 +66,7 @@ std::unique_ptr<Renderer> Renderer::Create(const RendererOptions& options) {
   auto impl = std::make_unique<Impl>();
   impl->options = options;
   if (options.shadow_map_size < 0) throw RenderError("RendererOptions::shadow_map_size must be >= 0");
-  const std::string urdf =
-      options.robot_urdf_path.empty() ? AssetsDir() + "/panda/panda_knife.urdf" : options.robot_urdf_path;
-  RobotVisuals robot = LoadRobotVisuals(urdf);  // CPU work, before any GL
+  RobotVisuals robot = BuildRobotVisuals(options.robot);  // CPU work, before any GL
   Impl* raw = impl.get();
   impl->thread = std::make_unique<RenderThread>([raw, &robot] {
     try {
@@ -86,8 +84,8 @@ std::unique_ptr<Renderer> Renderer::Create(const RendererOptions& options) {
   return std::unique_ptr<Renderer>(new Renderer(std::move(impl)));
 }
 
-void Renderer::SetRobot(const std::string& urdf_path) {
-  RobotVisuals robot = LoadRobotVisuals(urdf_path);
+void Renderer::SetRobot(const RobotVisualDescription& description) {
+  RobotVisuals robot = BuildRobotVisuals(description);
   impl_->thread->Run<void>([this, &robot] { impl_->frame_renderer->SetRobot(std::move(robot)); });
 }
 

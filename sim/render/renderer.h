@@ -12,8 +12,10 @@
 #include <string>
 #include <vector>
 
+#include "sim/core/robot_visual_description.h"
 #include "sim/render/camera.h"
 #include "sim/render/camera_images.h"
+#include "sim/render/camera_renderer.h"
 #include "sim/render/egl_context.h"
 #include "sim/render/food_surface.h"
 #include "sim/render/render_error.h"
@@ -23,7 +25,9 @@ namespace culinarycut::render {
 
 struct RendererOptions {
   EglBackend backend = EglBackend::kAuto;
-  std::string robot_urdf_path;   // "" = $CULINARYCUT_ASSETS_DIR/panda/panda_knife.urdf
+  // The robot to draw, from RobotDescription::visuals (the URDF is parsed once, by sim/robot);
+  // empty: no robot.
+  RobotVisualDescription robot;
   int shadow_map_size = 1024;    // texels per side of the one shadow map; 0 = no shadows
   // Food surface extraction; when food_surface.cell_size_m is 0 the cell is this many particle
   // spacings: 2 is the MPM grid spacing at 8 particles per cell, finer than a 224 x 224 camera
@@ -32,32 +36,23 @@ struct RendererOptions {
   float food_cell_size_per_spacing = 2.0f;
 };
 
-struct RenderResult {
-  std::vector<CameraImages> cameras;  // in the order of the requested cameras
-  std::vector<SegmentLabel> labels;   // every id the segmentation images may contain
-  double surface_ms = 0.0;            // food surface extraction (calling thread)
-  double render_ms = 0.0;             // shadow pass and drawing, waiting for the queue excluded
-  double readback_ms = 0.0;           // glReadPixels and row flips
-  double wait_ms = 0.0;               // queued behind other sessions' render jobs
-};
-
-class Renderer {
+class Renderer final : public CameraRenderer {
  public:
   // Starts the render thread, the EGL context, the shaders and the robot. Throws RenderError with
   // the failed step and what to install, e.g. "EGL could not start: eglInitialize ... failed".
   static std::unique_ptr<Renderer> Create(const RendererOptions& options = {});
-  ~Renderer();
+  ~Renderer() override;
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  // Replaces the robot drawn by later calls. Throws RenderError for an unreadable URDF or mesh.
-  void SetRobot(const std::string& urdf_path);
+  // Replaces the robot drawn by later calls. Throws RenderError for an unreadable mesh file.
+  void SetRobot(const RobotVisualDescription& robot);
   // [0] = base link, [i + 1] = link moved by movable joint i: the order of link_poses_world.
   std::vector<std::string> robot_pose_link_names() const;
 
   // Renders the cameras; only requested channels are produced, and a camera with none requested
   // gets only its matrices. Thread-safe. Throws RenderError for a bad camera, scene or food name.
-  RenderResult Render(const RenderScene& scene, const std::vector<CameraSpec>& cameras);
+  RenderResult Render(const RenderScene& scene, const std::vector<CameraSpec>& cameras) override;
 
   // e.g. "llvmpipe (LLVM 15.0.6, 256 bits), OpenGL 4.5 (Core Profile) Mesa 22.3.6, EGL surfaceless"
   std::string device_description() const;

@@ -1,7 +1,7 @@
-// The robot as the cameras see it: every <visual> of the URDF, attached to the movable link that
-// carries it. Fixed links are merged into their parent's movable link, with their fixed offset
-// (the rule of sim/robot/robot_description.cc), so the caller only supplies the poses of the base
-// and of the movable links. Visuals of links whose name starts with "knife" are the knife.
+// The robot as the cameras see it: the meshes and materials of a RobotVisualDescription (read from
+// the URDF by the robot description, never parsed here), each attached to the movable link that
+// carries it, so the caller only supplies the poses of the base and of the movable links. Visuals
+// of links whose name starts with "knife" are the knife.
 #pragma once
 
 #include <map>
@@ -10,6 +10,7 @@
 
 #include <Eigen/Geometry>
 
+#include "sim/core/robot_visual_description.h"
 #include "sim/render/material.h"
 #include "sim/render/triangle_mesh.h"
 
@@ -34,10 +35,8 @@ struct RobotVisuals {
   int pose_count() const { return static_cast<int>(owner_names.size()); }
 };
 
-// Reads the URDF's visuals (box, cylinder, sphere; meshes through assimp, path relative to the
-// URDF, "file://" accepted). Movable joints (revolute, continuous, prismatic) are numbered in
-// depth-first order from the root, which for a serial arm is the order of
-// RobotDescription::links. Throws RenderError with the file and the reason.
-RobotVisuals LoadRobotVisuals(const std::string& urdf_path);
+// Builds the meshes (boxes, cylinders, spheres; mesh files through assimp) and materials. Throws
+// RenderError with the file and the reason when a mesh file cannot be read.
+RobotVisuals BuildRobotVisuals(const RobotVisualDescription& description);
 
 }  // namespace culinarycut::render

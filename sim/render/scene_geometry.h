@@ -9,7 +9,7 @@
 
 #include "sim/render/material.h"
 #include "sim/render/triangle_mesh.h"
-#include "sim/world/scene_layout.h"
+#include "sim/core/scene_layout.h"
 
 namespace culinarycut::render {
 

@@ -5,6 +5,7 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include "sim/robot/kinematics.h"
+#include "sim/robot/robot_visuals_from_urdf.h"
 #include "sim/robot/urdf_pose.h"
 
 namespace culinarycut {
@@ -127,6 +128,7 @@ RobotDescription LoadRobotDescription(const std::string& urdf_path, const std::s
                              std::to_string(kMaxJoints) + " are supported");
   }
   robot.tip_frames[robot.links.back().name] = Eigen::Isometry3d::Identity();
+  robot.visuals = RobotVisualsFromUrdf(*model, urdf_path);
   return robot;
 }
 

@@ -9,6 +9,8 @@
 
 #include <Eigen/Geometry>
 
+#include "sim/core/robot_visual_description.h"
+
 namespace culinarycut {
 
 struct CollisionShape {
@@ -45,6 +47,8 @@ struct RobotDescription {
   std::vector<RigidLink> links;                 // links[i] is moved by joint i
   // Fixed frames past the last movable joint (flange, knife frames, ...), in the last link frame.
   std::map<std::string, Eigen::Isometry3d> tip_frames;
+  // How it looks (every URDF <visual>), read from the same parse, for the renderer.
+  RobotVisualDescription visuals;
 
   int dof() const { return static_cast<int>(joint_names.size()); }
   // A tip frame by name; throws std::out_of_range with the known names if missing.

@@ -8,7 +8,7 @@
 
 namespace culinarycut::task {
 
-// World frame as in sim/world/scene_layout.h: z up, the robot base at the origin looking along +x.
+// World frame as in sim/core/scene_layout.h: z up, the robot base at the origin looking along +x.
 // "Left" and "right" are the robot's: left is +y, right is -y.
 struct ObjectBox {
   std::string name;               // instance name in the scene, e.g. "cucumber_0"

@@ -8,7 +8,7 @@
 #include "sim/render/camera.h"
 #include "sim/robot/robot_description.h"
 #include "sim/world/scene_config.h"
-#include "sim/world/scene_layout.h"
+#include "sim/core/scene_layout.h"
 
 namespace culinarycut {
 

@@ -17,7 +17,7 @@
 #include "sim/world/quality_preset.h"
 #include "sim/world/scene_budget.h"
 #include "sim/world/scene_config.h"
-#include "sim/world/scene_layout.h"
+#include "sim/core/scene_layout.h"
 
 namespace culinarycut {
 

@@ -16,7 +16,7 @@
 #include "sim/robot/robot_description.h"
 #include "sim/world/food_model.h"
 #include "sim/world/scene_config.h"
-#include "sim/world/scene_layout.h"
+#include "sim/core/scene_layout.h"
 #include "sim/world/task_model.h"
 
 namespace culinarycut {

@@ -26,7 +26,7 @@ RobotObservation ObserveRobot(const Model& model, const State& state) {
   return observation;
 }
 
-Observation Observe(const Model& model, const State& state, render::Renderer* renderer) {
+Observation Observe(const Model& model, const State& state, render::CameraRenderer* renderer) {
   Observation observation;
   observation.frame_id = state.frame_id;
   observation.sim_time_s = state.sim_time_s;

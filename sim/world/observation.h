@@ -13,7 +13,7 @@
 #include "sim/core/pose.h"
 #include "sim/core/stage_timer.h"
 #include "sim/mpm/topology.h"
-#include "sim/render/renderer.h"
+#include "sim/render/camera_renderer.h"
 #include "sim/task/success_metrics.h"
 #include "sim/world/model.h"
 #include "sim/world/state.h"
@@ -51,7 +51,7 @@ struct Observation {
 
 // Precondition: state has been reset. Renders model.cameras with `renderer` when it is given and the
 // scene has cameras (throws render::RenderError); without one the images stay empty.
-Observation Observe(const Model& model, const State& state, render::Renderer* renderer = nullptr);
+Observation Observe(const Model& model, const State& state, render::CameraRenderer* renderer = nullptr);
 
 // The robot part alone (no food, task or images): what telemetry and controllers need.
 RobotObservation ObserveRobot(const Model& model, const State& state);

@@ -11,7 +11,7 @@
 
 #include "sim/robot/kinematics.h"
 #include "sim/robot/robot_description.h"
-#include "sim/world/scene_layout.h"
+#include "sim/core/scene_layout.h"
 
 class btCollisionShape;
 class btMultiBody;

@@ -12,8 +12,18 @@
 
 namespace culinarycut::render::testing {
 
+// The shipped Panda with knife, as the robot description reads it.
+inline const RobotVisualDescription& PandaVisuals() {
+  static const RobotDescription robot = LoadRobotDescription(AssetsDir() + "/panda/panda_knife.urdf", "knife_tcp");
+  return robot.visuals;
+}
+
 inline Renderer& SharedRenderer() {
-  static const std::unique_ptr<Renderer> renderer = Renderer::Create();
+  static const std::unique_ptr<Renderer> renderer = [] {
+    RendererOptions options;
+    options.robot = PandaVisuals();
+    return Renderer::Create(options);
+  }();
   return *renderer;
 }
 

@@ -70,7 +70,7 @@ TEST_CASE("Depth of the board plane equals the analytic depth within 1 mm") {
 TEST_CASE("Segmentation shows the board, the knife and the robot at their projected centres") {
   RenderScene scene;
   scene.link_poses_world = PandaLinkPoses(ReadyPose());
-  const RobotVisuals visuals = LoadRobotVisuals(AssetsDir() + "/panda/panda_knife.urdf");
+  const RobotVisuals visuals = BuildRobotVisuals(testing::PandaVisuals());
   const auto& [blade_owner, blade_in_owner] = visuals.link_frames.at("knife_blade");
   const Eigen::Isometry3d blade = scene.link_poses_world[blade_owner] * blade_in_owner;
   // Face the blade's flat side (its local y) from 0.4 m away.
@@ -257,8 +257,11 @@ TEST_CASE("Bad render requests give RenderError and leave the renderer working")
   CHECK_THROWS_WITH(SharedRenderer().Render(scene, {attached}), Catch::Contains("no_such_link"));
   CHECK(SharedRenderer().Render(scene, cameras).cameras.size() == 3);
   RendererOptions missing_robot;
-  missing_robot.robot_urdf_path = "/nonexistent/robot.urdf";
-  CHECK_THROWS_WITH(Renderer::Create(missing_robot), Catch::Contains("/nonexistent/robot.urdf"));
+  missing_robot.robot.owner_names = {"base"};
+  missing_robot.robot.visuals.emplace_back();
+  missing_robot.robot.visuals.back().shape.kind = VisualShape::Kind::kMesh;
+  missing_robot.robot.visuals.back().shape.mesh_path = "/nonexistent/robot.stl";
+  CHECK_THROWS_WITH(Renderer::Create(missing_robot), Catch::Contains("/nonexistent/robot.stl"));
   CHECK(SharedRenderer().device_description().find("OpenGL") != std::string::npos);
   CHECK(SharedRenderer().robot_pose_link_names().size() == 8);
 }

@@ -6,6 +6,7 @@
 #include "sim/render/robot_visuals.h"
 #include "sim/render/scene_geometry.h"
 #include "sim/robot/robot_description.h"
+#include "sim/robot/robot_visuals_from_urdf.h"
 
 namespace culinarycut::render {
 namespace {
@@ -14,7 +15,7 @@ const std::string kDataDir = CULINARYCUT_RENDER_TEST_DATA;
 
 TEST_CASE("Panda visuals map onto the same movable links as the robot description") {
   const std::string urdf = AssetsDir() + "/panda/panda_knife.urdf";
-  const RobotVisuals visuals = LoadRobotVisuals(urdf);
+  const RobotVisuals visuals = BuildRobotVisuals(LoadRobotDescription(urdf, "knife_tcp").visuals);
   const RobotDescription robot = LoadRobotDescription(urdf, "knife_tcp");
   REQUIRE(visuals.pose_count() == robot.dof() + 1);
   CHECK(visuals.owner_names[0] == robot.base.name);
@@ -39,7 +40,7 @@ TEST_CASE("Panda visuals map onto the same movable links as the robot descriptio
 }
 
 TEST_CASE("Mesh visuals load through assimp with their scale, colour and fixed offsets") {
-  const RobotVisuals visuals = LoadRobotVisuals(kDataDir + "/mesh_arm.urdf");
+  const RobotVisuals visuals = BuildRobotVisuals(ReadRobotVisuals(kDataDir + "/mesh_arm.urdf"));
   REQUIRE(visuals.owner_names == std::vector<std::string>{"base", "arm"});
   const RobotVisualPart* tool = nullptr;
   const RobotVisualPart* tip = nullptr;
@@ -61,8 +62,15 @@ TEST_CASE("Mesh visuals load through assimp with their scale, colour and fixed o
   CHECK(tip->in_owner.translation().isApprox(Eigen::Vector3d(0, 0, 0.45)));
 }
 
-TEST_CASE("Unreadable robot files give a RenderError naming the file") {
-  CHECK_THROWS_WITH(LoadRobotVisuals(kDataDir + "/missing.urdf"), Catch::Contains("missing.urdf"));
+TEST_CASE("Unreadable robot and mesh files give an error naming the file") {
+  CHECK_THROWS_WITH(ReadRobotVisuals(kDataDir + "/missing.urdf"), Catch::Contains("missing.urdf"));
+  RobotVisualDescription missing_mesh;
+  missing_mesh.owner_names = {"base"};
+  missing_mesh.visuals.emplace_back();
+  missing_mesh.visuals.back().shape.kind = VisualShape::Kind::kMesh;
+  missing_mesh.visuals.back().shape.mesh_path = "/nonexistent/robot.stl";
+  CHECK_THROWS_AS(BuildRobotVisuals(missing_mesh), RenderError);
+  CHECK_THROWS_WITH(BuildRobotVisuals(missing_mesh), Catch::Contains("/nonexistent/robot.stl"));
 }
 
 TEST_CASE("Scenes and food palettes refuse unknown names and list the known ones") {

@@ -1,4 +1,6 @@
-// Where the static furniture stands. World frame: z up, origin on the table top under the robot base.
+// Where the static furniture stands: a plain type shared by the world (physics, food placement) and the
+// renderer (furniture meshes, default cameras). World frame: z up, origin on the table top under the
+// robot base.
 #pragma once
 
 #include <Eigen/Core>
