@@ -62,7 +62,7 @@ int main(int argc, char** argv) {
   options.listen_address = listen;
   options.telemetry_endpoint = "";
   culinarycut::server::SimulationServer server(options);
-  culinarycut::Client client(server.address());
+  culinarycut::client::Client client(server.address());
   culinarycut::v1::SceneSpec scene;
   scene.mutable_robot()->set_control_frequency_hz(control_hz);
   auto session = client.CreateSession(scene);

@@ -11,6 +11,7 @@
 #include "server/simulation_server.h"
 
 using namespace culinarycut;
+using namespace culinarycut::client;
 
 namespace {
 

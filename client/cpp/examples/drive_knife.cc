@@ -8,7 +8,7 @@
 int main(int argc, char** argv) {
   const std::string address = argc > 1 ? argv[1] : "127.0.0.1:50051";
   try {
-    culinarycut::Client client(address);
+    culinarycut::client::Client client(address);
     if (!client.WaitForServer(std::chrono::seconds(5))) {
       std::fprintf(stderr, "drive_knife: no CulinaryCut server answers at %s; start one with culinarycut-server\n",
                    address.c_str());
@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
     const culinarycut::v1::ServerInfo info = client.GetServerInfo();
     std::printf("server %s (build %s)\n", info.version().c_str(), info.build_id().c_str());
     auto session = client.CreateSession();
-    culinarycut::Observation observation = session->Reset(/*seed=*/0);
+    culinarycut::client::Observation observation = session->Reset(/*seed=*/0);
     std::printf("session %s, knife TCP at (%.3f, %.3f, %.3f) m\n", session->id().c_str(), observation.tcp_pose[0],
                 observation.tcp_pose[1], observation.tcp_pose[2]);
     // Above the board centre, knife edge down, then 4 cm lower, then back up.
@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
                   static_cast<unsigned long long>(observation.frame_id), observation.sim_time, observation.tcp_pose[0],
                   observation.tcp_pose[1], observation.tcp_pose[2], error_mm);
     }
-  } catch (const culinarycut::RpcError& error) {
+  } catch (const culinarycut::client::RpcError& error) {
     std::fprintf(stderr, "drive_knife: %s\n", error.what());
     return 1;
   }

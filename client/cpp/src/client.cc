@@ -1,11 +1,7 @@
 #include "culinarycut/client.h"
 
-namespace culinarycut {
+namespace culinarycut::client {
 namespace {
-
-std::vector<double> ToVector(const google::protobuf::RepeatedField<double>& field) {
-  return std::vector<double>(field.begin(), field.end());
-}
 
 void Check(const char* method, const grpc::Status& status) {
   if (!status.ok()) throw RpcError(method, status);
@@ -16,20 +12,8 @@ void Check(const char* method, const grpc::Status& status) {
 RpcError::RpcError(const std::string& method, const grpc::Status& status)
     : std::runtime_error(method + " failed (gRPC code " + std::to_string(status.error_code()) + "): " +
                          status.error_message()),
-      code_(status.error_code()) {}
-
-Observation FromWire(const v1::FrameStamp& stamp, const v1::Observation& wire) {
-  Observation observation;
-  observation.frame_id = stamp.frame_id();
-  observation.sim_time = stamp.sim_time();
-  observation.qpos = ToVector(wire.agent().qpos());
-  observation.qvel = ToVector(wire.agent().qvel());
-  observation.qpos_target = ToVector(wire.agent().qpos_target());
-  observation.tcp_pose = ToVector(wire.tcp_pose());
-  observation.tcp_velocity = ToVector(wire.tcp_velocity());
-  observation.flange_pose = ToVector(wire.flange_pose());
-  return observation;
-}
+      code_(status.error_code()),
+      details_(status.error_message()) {}
 
 namespace {
 
@@ -42,25 +26,28 @@ std::shared_ptr<grpc::Channel> MakeChannel(const std::string& address) {
 
 }  // namespace
 
-Client::Client(const std::string& address, std::chrono::milliseconds call_timeout)
+Connection::Connection(const std::string& address, std::chrono::milliseconds call_timeout)
     : channel_(MakeChannel(address)),
-      stub_(v1::Simulator::NewStub(channel_)),
-      tasks_stub_(v1::Tasks::NewStub(channel_)),
+      simulator_(v1::Simulator::NewStub(channel_)),
+      tasks_(v1::Tasks::NewStub(channel_)),
       call_timeout_(call_timeout) {}
 
-bool Client::WaitForServer(std::chrono::milliseconds timeout) {
-  return channel_->WaitForConnected(std::chrono::system_clock::now() + timeout);
-}
-
-std::unique_ptr<grpc::ClientContext> Client::MakeContext() const {
+std::unique_ptr<grpc::ClientContext> Connection::MakeContext() const {
   auto context = std::make_unique<grpc::ClientContext>();
   context->set_deadline(std::chrono::system_clock::now() + call_timeout_);
   return context;
 }
 
+Client::Client(const std::string& address, std::chrono::milliseconds call_timeout)
+    : connection_(std::make_shared<Connection>(address, call_timeout)) {}
+
+bool Client::WaitForServer(std::chrono::milliseconds timeout) {
+  return connection_->channel().WaitForConnected(std::chrono::system_clock::now() + timeout);
+}
+
 v1::ServerInfo Client::GetServerInfo() {
   v1::ServerInfo info;
-  Check("GetServerInfo", stub_->GetServerInfo(MakeContext().get(), v1::GetServerInfoRequest(), &info));
+  Check("GetServerInfo", stub().GetServerInfo(MakeContext().get(), v1::GetServerInfoRequest(), &info));
   return info;
 }
 
@@ -68,43 +55,43 @@ std::unique_ptr<Session> Client::CreateSession(const v1::SceneSpec& scene) {
   v1::CreateSessionRequest request;
   *request.mutable_scene() = scene;
   v1::CreateSessionResponse response;
-  Check("CreateSession", stub_->CreateSession(MakeContext().get(), request, &response));
-  return std::make_unique<Session>(this, std::move(response));
+  Check("CreateSession", stub().CreateSession(MakeContext().get(), request, &response));
+  return std::make_unique<Session>(connection_, std::move(response));
 }
 
 v1::ParseInstructionResponse Client::ParseInstruction(const std::string& instruction) {
   v1::ParseInstructionRequest request;
   request.set_instruction(instruction);
   v1::ParseInstructionResponse response;
-  Check("ParseInstruction", tasks_stub_->ParseInstruction(MakeContext().get(), request, &response));
+  Check("ParseInstruction", tasks_stub().ParseInstruction(MakeContext().get(), request, &response));
   return response;
 }
 
 std::vector<std::string> Client::GenerateInstructions(const v1::GenerateInstructionsRequest& request) {
   v1::GenerateInstructionsResponse response;
-  Check("GenerateInstructions", tasks_stub_->GenerateInstructions(MakeContext().get(), request, &response));
+  Check("GenerateInstructions", tasks_stub().GenerateInstructions(MakeContext().get(), request, &response));
   return {response.instructions().begin(), response.instructions().end()};
 }
 
 v1::CutPlan Client::PlanCut(const v1::PlanCutRequest& request) {
   v1::PlanCutResponse response;
-  Check("PlanCut", tasks_stub_->PlanCut(MakeContext().get(), request, &response));
+  Check("PlanCut", tasks_stub().PlanCut(MakeContext().get(), request, &response));
   return response.plan();
 }
 
 v1::TaskScore Client::ScoreCuts(const v1::ScoreCutsRequest& request) {
   v1::ScoreCutsResponse response;
-  Check("ScoreCuts", tasks_stub_->ScoreCuts(MakeContext().get(), request, &response));
+  Check("ScoreCuts", tasks_stub().ScoreCuts(MakeContext().get(), request, &response));
   return response.score();
 }
 
-Session::Session(Client* client, v1::CreateSessionResponse handshake)
-    : client_(client), handshake_(std::move(handshake)) {}
+Session::Session(std::shared_ptr<Connection> connection, v1::CreateSessionResponse handshake)
+    : connection_(std::move(connection)), handshake_(std::move(handshake)) {}
 
 Session::~Session() {
   try {
     Close();
-  } catch (const RpcError&) {
+  } catch (...) {
     // The server may already have reclaimed or lost the session; nothing to undo.
   }
 }
@@ -115,7 +102,7 @@ Observation Session::Reset(std::optional<std::uint64_t> seed, const std::vector<
   if (seed) request.mutable_seed()->set_value(*seed);
   request.mutable_initial_qpos()->Assign(initial_qpos.begin(), initial_qpos.end());
   v1::ResetResponse response;
-  Check("Reset", client_->stub().Reset(client_->MakeContext().get(), request, &response));
+  Check("Reset", connection_->simulator().Reset(connection_->MakeContext().get(), request, &response));
   return FromWire(response.stamp(), response.observation());
 }
 
@@ -125,10 +112,14 @@ StepResult Session::Step(const std::string& control_mode, const std::vector<doub
   request.mutable_action()->set_control_mode(control_mode);
   request.mutable_action()->mutable_values()->Assign(values.begin(), values.end());
   v1::StepResponse response;
-  Check("Step", client_->stub().Step(client_->MakeContext().get(), request, &response));
+  Check("Step", connection_->simulator().Step(connection_->MakeContext().get(), request, &response));
   StepResult result;
   result.observation = FromWire(response.stamp(), response.observation());
   result.reward = response.reward();
+  if (response.has_task_score()) {
+    result.task_score = response.task_score();
+    result.success = response.task_score().success();
+  }
   result.terminated = response.terminated();
   result.truncated = response.truncated();
   result.info = response.info();
@@ -139,7 +130,7 @@ Observation Session::Observe() {
   v1::ObserveRequest request;
   request.set_session_id(id());
   v1::ObserveResponse response;
-  Check("Observe", client_->stub().Observe(client_->MakeContext().get(), request, &response));
+  Check("Observe", connection_->simulator().Observe(connection_->MakeContext().get(), request, &response));
   return FromWire(response.stamp(), response.observation());
 }
 
@@ -147,7 +138,7 @@ std::string Session::SaveSnapshot() {
   v1::SaveSnapshotRequest request;
   request.set_session_id(id());
   v1::SaveSnapshotResponse response;
-  Check("SaveSnapshot", client_->stub().SaveSnapshot(client_->MakeContext().get(), request, &response));
+  Check("SaveSnapshot", connection_->simulator().SaveSnapshot(connection_->MakeContext().get(), request, &response));
   return response.snapshot();
 }
 
@@ -156,8 +147,16 @@ Observation Session::RestoreSnapshot(const std::string& snapshot) {
   request.set_session_id(id());
   request.set_snapshot(snapshot);
   v1::RestoreSnapshotResponse response;
-  Check("RestoreSnapshot", client_->stub().RestoreSnapshot(client_->MakeContext().get(), request, &response));
+  Check("RestoreSnapshot", connection_->simulator().RestoreSnapshot(connection_->MakeContext().get(), request, &response));
   return FromWire(response.stamp(), response.observation());
+}
+
+v1::SessionStats Session::GetSessionStats() {
+  v1::GetSessionStatsRequest request;
+  request.set_session_id(id());
+  v1::SessionStats response;
+  Check("GetSessionStats", connection_->simulator().GetSessionStats(connection_->MakeContext().get(), request, &response));
+  return response;
 }
 
 void Session::Close() {
@@ -166,13 +165,13 @@ void Session::Close() {
   v1::CloseSessionRequest request;
   request.set_session_id(id());
   v1::CloseSessionResponse response;
-  Check("CloseSession", client_->stub().CloseSession(client_->MakeContext().get(), request, &response));
+  Check("CloseSession", connection_->simulator().CloseSession(connection_->MakeContext().get(), request, &response));
 }
 
 v1::CutPlan Session::StartOracle(v1::StartOracleRequest request) {
   request.set_session_id(id());
   v1::StartOracleResponse response;
-  Check("StartOracle", client_->tasks_stub().StartOracle(client_->MakeContext().get(), request, &response));
+  Check("StartOracle", connection_->tasks().StartOracle(connection_->MakeContext().get(), request, &response));
   return response.plan();
 }
 
@@ -180,8 +179,8 @@ v1::OracleActionResponse Session::OracleAction() {
   v1::OracleActionRequest request;
   request.set_session_id(id());
   v1::OracleActionResponse response;
-  Check("OracleAction", client_->tasks_stub().OracleAction(client_->MakeContext().get(), request, &response));
+  Check("OracleAction", connection_->tasks().OracleAction(connection_->MakeContext().get(), request, &response));
   return response;
 }
 
-}  // namespace culinarycut
+}  // namespace culinarycut::client

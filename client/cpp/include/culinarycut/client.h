@@ -1,12 +1,14 @@
 // C++ client for the CulinaryCut server (culinarycut.v1 over gRPC).
 //
-//   culinarycut::Client client("127.0.0.1:50051");
+//   culinarycut::client::Client client("127.0.0.1:50051");
 //   auto session = client.CreateSession();          // closed when it goes out of scope
-//   culinarycut::Observation obs = session->Reset(/*seed=*/0);
-//   auto result = session->Step("pd_ee_delta_pose", {0, 0, -0.01, 0, 0, 0});
+//   culinarycut::client::Observation obs = session->Reset(/*seed=*/0);
+//   auto result = session->Step("pd_ee_delta_pose", {0, 0, -0.1, 0, 0, 0});   // normalised: 1 cm down
 //
-// Every failed call throws culinarycut::RpcError, which carries the gRPC status code and the
-// server's message.
+// Every failed call throws culinarycut::client::RpcError, which carries the gRPC status code and
+// the server's message (it names the field at fault for bad input). A Session keeps the
+// connection alive on its own, so it may outlive the Client that created it. Use from another
+// CMake project: find_package(culinarycut CONFIG REQUIRED) and link culinarycut::client.
 #pragma once
 
 #include <chrono>
@@ -19,34 +21,38 @@
 
 #include <grpcpp/grpcpp.h>
 
+#include "culinarycut/observation.h"
 #include "culinarycut/v1/simulator.grpc.pb.h"
 #include "culinarycut/v1/task.grpc.pb.h"
 
-namespace culinarycut {
+namespace culinarycut::client {
 
 class RpcError : public std::runtime_error {
  public:
   RpcError(const std::string& method, const grpc::Status& status);
   grpc::StatusCode code() const { return code_; }
+  const std::string& details() const { return details_; }  // the server's message alone
 
  private:
   grpc::StatusCode code_;
+  std::string details_;
 };
 
-// One observation, in SI units; poses are [x, y, z, qw, qx, qy, qz] in the world frame.
-struct Observation {
-  std::uint64_t frame_id = 0;
-  double sim_time = 0.0;
-  std::vector<double> qpos, qvel, qpos_target;
-  std::vector<double> tcp_pose, tcp_velocity, flange_pose;
-};
+// The channel, the stubs and the per-call deadline, shared by a Client and its Sessions.
+class Connection {
+ public:
+  Connection(const std::string& address, std::chrono::milliseconds call_timeout);
+  v1::Simulator::Stub& simulator() { return *simulator_; }
+  v1::Tasks::Stub& tasks() { return *tasks_; }
+  grpc::Channel& channel() { return *channel_; }
+  // A context with this connection's deadline.
+  std::unique_ptr<grpc::ClientContext> MakeContext() const;
 
-struct StepResult {
-  Observation observation;
-  double reward = 0.0;
-  bool terminated = false;
-  bool truncated = false;
-  v1::StepInfo info;
+ private:
+  std::shared_ptr<grpc::Channel> channel_;
+  std::unique_ptr<v1::Simulator::Stub> simulator_;
+  std::unique_ptr<v1::Tasks::Stub> tasks_;
+  std::chrono::milliseconds call_timeout_;
 };
 
 class Session;
@@ -60,29 +66,25 @@ class Client {
   v1::ServerInfo GetServerInfo();
   std::unique_ptr<Session> CreateSession(const v1::SceneSpec& scene = {});
 
-  // The raw stubs, for calls this wrapper does not cover.
-  v1::Simulator::Stub& stub() { return *stub_; }
-  v1::Tasks::Stub& tasks_stub() { return *tasks_stub_; }
-
   // Stateless task calls (the Tasks service): instruction -> spec, planning, scoring.
   v1::ParseInstructionResponse ParseInstruction(const std::string& instruction);
   std::vector<std::string> GenerateInstructions(const v1::GenerateInstructionsRequest& request);
   v1::CutPlan PlanCut(const v1::PlanCutRequest& request);
   v1::TaskScore ScoreCuts(const v1::ScoreCutsRequest& request);
-  // A context with this client's deadline.
-  std::unique_ptr<grpc::ClientContext> MakeContext() const;
+
+  // The raw stubs and contexts, for calls this wrapper does not cover.
+  v1::Simulator::Stub& stub() { return connection_->simulator(); }
+  v1::Tasks::Stub& tasks_stub() { return connection_->tasks(); }
+  std::unique_ptr<grpc::ClientContext> MakeContext() const { return connection_->MakeContext(); }
 
  private:
-  std::shared_ptr<grpc::Channel> channel_;
-  std::unique_ptr<v1::Simulator::Stub> stub_;
-  std::unique_ptr<v1::Tasks::Stub> tasks_stub_;
-  std::chrono::milliseconds call_timeout_;
+  std::shared_ptr<Connection> connection_;
 };
 
 class Session {
  public:
-  Session(Client* client, v1::CreateSessionResponse handshake);
-  ~Session();  // closes the session on the server; errors are ignored here
+  Session(std::shared_ptr<Connection> connection, v1::CreateSessionResponse handshake);
+  ~Session();  // closes the session on the server; never throws
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
 
@@ -95,6 +97,8 @@ class Session {
   Observation Observe();
   std::string SaveSnapshot();
   Observation RestoreSnapshot(const std::string& snapshot);
+  // What the session has built and run: MPM allocation, particles, substeps, stage wall times.
+  v1::SessionStats GetSessionStats();
   void Close();
 
   // The server-side scripted oracle: plan once per episode (session_id is filled in), then one
@@ -103,12 +107,9 @@ class Session {
   v1::OracleActionResponse OracleAction();
 
  private:
-  Client* client_;
+  std::shared_ptr<Connection> connection_;
   v1::CreateSessionResponse handshake_;
   bool closed_ = false;
 };
 
-// Converts a wire observation (and its stamp) into the plain struct.
-Observation FromWire(const v1::FrameStamp& stamp, const v1::Observation& wire);
-
-}  // namespace culinarycut
+}  // namespace culinarycut::client
