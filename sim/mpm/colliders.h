@@ -33,7 +33,7 @@ struct KnifeGeometry {
   double blade_height_m = 0.045;    // spine to edge, along z
   double blade_thickness_m = 0.002; // along y, at the spine
   double bevel_height_m = 0.008;    // the bottom part that tapers to a sharp edge
-  // SDF thickness is at least this many grid cells (thin colliders leak: physics.md). One cell is
+  // SDF thickness is at least this many grid cells (thinner colliders let particles leak through). One cell is
   // enough with the two-sided blade, and keeps the cut gap near one cell.
   double min_thickness_cells = 1.0;
   Eigen::Vector3d handle_size_m{0.11, 0.02, 0.025};        // box behind the heel

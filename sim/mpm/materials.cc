@@ -6,7 +6,7 @@
 namespace culinarycut::mpm {
 namespace {
 
-// Presets. Bulk values from the literature where it has them (shared/reference/physics.md);
+// Presets. Bulk values from the literature where it has them (cited per preset below);
 // "chosen" where it does not. Yield stresses set plastic flow near the failure stress.
 std::vector<Material> Presets() {
   auto make = [](const char* name, double E_pa, double nu, double rho, double yield_pa,
@@ -29,15 +29,15 @@ std::vector<Material> Presets() {
            "E 2.5 MPa, nu 0.37, rho 940-1100 kg/m^3, friction 0.5 (Jamdagni & Jia, IROS 2019); "
            "yield chosen"),
       make("banana", 0.5e6, 0.35, 950.0, 0.08e6, 0.4,
-           "chosen: E in the unverified 0.1-1 MPa range of physics.md"),
+           "chosen: E in the unverified 0.1-1 MPa range of the food-texture literature"),
       make("strawberry", 0.3e6, 0.35, 900.0, 0.05e6, 0.4,
-           "chosen: E in the unverified 0.1-1 MPa range of physics.md"),
+           "chosen: E in the unverified 0.1-1 MPa range of the food-texture literature"),
       make("peach", 1.5e6, 0.3, 950.0, 0.2e6, 0.5,
-           "chosen: E in the unverified 0.5-5 MPa range of physics.md"),
+           "chosen: E in the unverified 0.5-5 MPa range of the food-texture literature"),
       make("melon", 2.0e6, 0.3, 930.0, 0.25e6, 0.5,
-           "chosen: E in the unverified 0.5-5 MPa range of physics.md"),
+           "chosen: E in the unverified 0.5-5 MPa range of the food-texture literature"),
       make("orange", 1.0e6, 0.3, 950.0, 0.15e6, 0.5,
-           "chosen: E in the unverified 0.5-5 MPa range of physics.md"),
+           "chosen: E in the unverified 0.5-5 MPa range of the food-texture literature"),
       make("generic", 0.5e6, 0.3, 1000.0, 0.0, 0.5,
            "chosen: a soft elastic solid in the middle of the paper's 0.1-0.9 MPa sweep"),
   };

@@ -1,4 +1,4 @@
-// Named food material presets with their sources (shared/reference/physics.md); every value can
+// Named food material presets with their sources (cited per preset in materials.cc); every value can
 // be overridden. SI units throughout.
 #pragma once
 

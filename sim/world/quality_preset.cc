@@ -13,7 +13,7 @@ struct NamedPreset {
   MpmResolution resolution;
 };
 
-// Coarser grids afford a larger CFL factor: the solver stays stable up to about 0.4 (physics.md).
+// Coarser grids afford a larger CFL factor: the solver stays stable up to about 0.4 (the MPM stability tests).
 const NamedPreset kPresets[] = {
     {"draft", {0.008, 4, 0.3}},
     {"standard", {0.004, 8, 0.2}},

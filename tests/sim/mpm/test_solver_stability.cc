@@ -1,4 +1,4 @@
-// Hard cases stay stable (physics.md, "three promises"): stiff food, a fast knife, nearly
+// Hard cases stay stable (the project's promise that hard cases stay numerically stable): stiff food, a fast knife, nearly
 // incompressible flesh, a thin slice, long sawing, a tiny object at a coarse grid. Each must end
 // with finite particles, J inside its clamp interval and bounded energy.
 #include <catch2/catch.hpp>

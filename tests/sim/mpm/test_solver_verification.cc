@@ -1,4 +1,4 @@
-// MLS-MPM against problems with known answers (shared/reference/physics.md).
+// MLS-MPM against problems with known answers (closed-form solutions: bar waves, a column under gravity, rest without creep).
 #include <cmath>
 
 #include <catch2/catch.hpp>

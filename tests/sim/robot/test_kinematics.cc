@@ -19,7 +19,7 @@ Eigen::Isometry3d ModifiedDh(double a, double d, double alpha, double theta) {
   return t;
 }
 
-// The flange pose straight from the table in shared/reference/panda.md.
+// The flange pose straight from the Panda's published DH table.
 Eigen::Isometry3d FlangeFromDhTable(const Eigen::VectorXd& q) {
   const double table[8][3] = {{0, 0.333, 0},       {0, 0, -M_PI / 2},      {0, 0.316, M_PI / 2},
                               {0.0825, 0, M_PI / 2}, {-0.0825, 0.384, -M_PI / 2}, {0, 0, M_PI / 2},

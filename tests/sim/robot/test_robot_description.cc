@@ -5,7 +5,7 @@
 
 using namespace culinarycut;
 
-TEST_CASE("the Panda description has seven revolute joints with panda.md's limits", "[robot]") {
+TEST_CASE("the Panda description has seven revolute joints with Franka's published limits", "[robot]") {
   const RobotDescription& robot = testing::Panda();
   REQUIRE(robot.dof() == 7);
   CHECK(robot.limits[0].lower_rad == Approx(-2.8973));
