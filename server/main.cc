@@ -33,6 +33,12 @@ int main(int argc, char** argv) {
   app.add_option("--snapshot-key-file", options.snapshot_key_file,
                  "file of >= 32 secret bytes that authenticates snapshots; servers sharing it accept each "
                  "other's snapshots (default: a random key per process)");
+  app.add_option("--memory-budget-mb", options.memory_budget_mb,
+                 "memory all sessions together may hold, estimated per scene at CreateSession (0: 3/4 of the machine)")
+      ->capture_default_str();
+  app.add_option("--max-handler-threads", options.max_handler_threads, "gRPC threads serving calls at once")
+      ->capture_default_str()
+      ->check(CLI::Range(4, 4096));
   app.add_option("--robot-urdf", options.robot_urdf_path, "robot description (default: the shipped Panda with knife)");
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")
       ->capture_default_str()

@@ -27,9 +27,11 @@ std::string RandomSessionId() {
 
 }  // namespace
 
-SessionManager::SessionManager(std::uint32_t max_sessions, std::chrono::duration<double> idle_timeout)
+SessionManager::SessionManager(std::uint32_t max_sessions, std::chrono::duration<double> idle_timeout,
+                               std::uint64_t memory_budget_bytes)
     : max_sessions_(max_sessions),
       idle_timeout_(idle_timeout),
+      memory_budget_bytes_(memory_budget_bytes),
       reaper_([this] { ReaperLoop(); }) {}
 
 SessionManager::~SessionManager() {
@@ -41,9 +43,27 @@ SessionManager::~SessionManager() {
   reaper_.join();
 }
 
-std::shared_ptr<Session> SessionManager::Create(std::shared_ptr<const Model> model) {
+std::shared_ptr<Session> SessionManager::Create(std::shared_ptr<const Model> model, std::string* refusal) {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (sessions_.size() >= max_sessions_) return nullptr;
+  if (sessions_.size() >= max_sessions_) {
+    if (refusal) {
+      *refusal = "the server already runs its maximum of " + std::to_string(max_sessions_) +
+                 " sessions; close one (CloseSession) or start the server with a larger --max-sessions";
+    }
+    return nullptr;
+  }
+  const std::uint64_t needed = model->estimated_memory_bytes;
+  if (memory_budget_bytes_ > 0 && memory_reserved_bytes_ + needed > memory_budget_bytes_) {
+    if (refusal) {
+      *refusal = "this scene needs about " + std::to_string(needed >> 20) + " MB and the live sessions hold " +
+                 std::to_string(memory_reserved_bytes_ >> 20) + " MB of the server's " +
+                 std::to_string(memory_budget_bytes_ >> 20) +
+                 " MB memory budget (--memory-budget-mb); lower scene.quality, the food's scale or the cameras' "
+                 "size, or close sessions";
+    }
+    return nullptr;
+  }
+  memory_reserved_bytes_ += needed;
   auto session = std::make_shared<Session>();
   do {
     session->id = RandomSessionId();
@@ -64,7 +84,16 @@ std::shared_ptr<Session> SessionManager::Find(const std::string& id) {
 
 bool SessionManager::Close(const std::string& id) {
   std::lock_guard<std::mutex> lock(mutex_);
-  return sessions_.erase(id) > 0;
+  const auto it = sessions_.find(id);
+  if (it == sessions_.end()) return false;
+  memory_reserved_bytes_ -= it->second->model->estimated_memory_bytes;
+  sessions_.erase(it);
+  return true;
+}
+
+std::uint64_t SessionManager::memory_reserved_bytes() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return memory_reserved_bytes_;
 }
 
 std::vector<std::string> SessionManager::ReapIdle(std::chrono::steady_clock::time_point now) {
@@ -78,6 +107,7 @@ std::vector<std::string> SessionManager::ReapIdle(std::chrono::steady_clock::tim
     if (now - last_used > idle_timeout_ && busy_check.owns_lock()) {
       reaped.push_back(it->first);
       busy_check.unlock();
+      memory_reserved_bytes_ -= it->second->model->estimated_memory_bytes;
       it = sessions_.erase(it);
     } else {
       ++it;

@@ -58,13 +58,16 @@ class SessionLock {
 
 class SessionManager {
  public:
-  SessionManager(std::uint32_t max_sessions, std::chrono::duration<double> idle_timeout);
+  // `memory_budget_bytes` bounds the sum of the live sessions' estimated memory (0: no bound).
+  SessionManager(std::uint32_t max_sessions, std::chrono::duration<double> idle_timeout,
+                 std::uint64_t memory_budget_bytes = 0);
   ~SessionManager();
   SessionManager(const SessionManager&) = delete;
   SessionManager& operator=(const SessionManager&) = delete;
 
-  // Null when the server already holds max_sessions.
-  std::shared_ptr<Session> Create(std::shared_ptr<const Model> model);
+  // Null, with the reason in `refusal` (naming the limit and what to lower), when the server
+  // already holds max_sessions or the model's estimated memory would pass the budget.
+  std::shared_ptr<Session> Create(std::shared_ptr<const Model> model, std::string* refusal = nullptr);
   // Null when no such session exists; marks the session as used now.
   std::shared_ptr<Session> Find(const std::string& id);
   bool Close(const std::string& id);
@@ -74,12 +77,16 @@ class SessionManager {
   std::uint32_t size() const;
   std::uint32_t max_sessions() const { return max_sessions_; }
   double idle_timeout_s() const { return idle_timeout_.count(); }
+  std::uint64_t memory_budget_bytes() const { return memory_budget_bytes_; }
+  std::uint64_t memory_reserved_bytes() const;
 
  private:
   void ReaperLoop();
 
   const std::uint32_t max_sessions_;
   const std::chrono::duration<double> idle_timeout_;
+  const std::uint64_t memory_budget_bytes_;
+  std::uint64_t memory_reserved_bytes_ = 0;  // sum of the live sessions' Model::estimated_memory_bytes
   mutable std::mutex mutex_;
   std::map<std::string, std::shared_ptr<Session>> sessions_;
   std::condition_variable stop_signal_;

@@ -1,10 +1,13 @@
 #include "server/simulation_server.h"
 
+#include <unistd.h>
+
 #include <chrono>
 #include <stdexcept>
 
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/health_check_service_interface.h>
+#include <grpcpp/resource_quota.h>
 
 #include "sim/world/model.h"
 
@@ -22,6 +25,14 @@ void CheckListenAddress(const std::string& address) {
     throw std::runtime_error("--listen " + address + ": expected host:port with a port in 0..65535 (0 picks a free "
                              "port), or unix:///path/to.sock");
   }
+}
+
+// The sessions' memory budget: the flag, or three quarters of the machine's memory.
+std::uint64_t MemoryBudgetBytes(std::uint64_t budget_mb) {
+  if (budget_mb > 0) return budget_mb << 20;
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  const long page_size = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page_size > 0 ? static_cast<std::uint64_t>(pages) * page_size / 4 * 3 : 0;
 }
 
 }  // namespace
@@ -46,13 +57,14 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
                                " (pick another with --telemetry, or --telemetry '' to turn it off)");
     }
   }
-  sessions_ = std::make_unique<SessionManager>(options.max_sessions,
-                                               std::chrono::duration<double>(options.idle_timeout_s));
+  if (options.max_handler_threads < 4) throw std::runtime_error("--max-handler-threads must be at least 4");
+  sessions_ = std::make_unique<SessionManager>(options.max_sessions, std::chrono::duration<double>(options.idle_timeout_s),
+                                               MemoryBudgetBytes(options.memory_budget_mb));
   render::RendererOptions render_options;
   render_options.robot = robot.visuals;  // the URDF parsed once, by the robot description
   renderer_ = std::make_unique<SharedRenderer>(render_options);
   service_ = std::make_unique<SimulatorService>(std::move(robot), sessions_.get(), telemetry_.get(), renderer_.get(),
-                                                SnapshotSeal(options.snapshot_key_file));
+                                                SnapshotSeal(options.snapshot_key_file), options.max_handler_threads);
   task_service_ = std::make_unique<TaskService>(sessions_.get());
 
   grpc::EnableDefaultHealthCheckService(true);
@@ -61,6 +73,10 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   // One server per port: with port reuse on, a second server on a taken port would share its
   // incoming connections and clients would lose their sessions at random.
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
+  // A bounded thread pool: 1,000 concurrent calls must not become 1,000 threads.
+  grpc::ResourceQuota quota("culinarycut-server");
+  quota.SetMaxThreads(static_cast<int>(options.max_handler_threads));
+  builder.SetResourceQuota(quota);
   int bound_port = 0;
   builder.AddListeningPort(options.listen_address, grpc::InsecureServerCredentials(), &bound_port);
   builder.RegisterService(service_.get());

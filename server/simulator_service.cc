@@ -8,13 +8,19 @@
 #include "server/wire/observation.h"
 #include "server/wire/scene.h"
 #include "sim/world/controller.h"
+#include "sim/world/scene_budget.h"
 #include "sim/world/snapshot.h"
 #include "sim/world/step.h"
 
 namespace culinarycut::server {
 SimulatorService::SimulatorService(RobotDescription robot, SessionManager* sessions, TelemetryPublisher* telemetry,
-                                   SharedRenderer* renderer, SnapshotSeal seal)
-    : robot_(std::move(robot)), sessions_(sessions), telemetry_(telemetry), renderer_(renderer), seal_(std::move(seal)) {}
+                                   SharedRenderer* renderer, SnapshotSeal seal, std::uint32_t max_handler_threads)
+    : robot_(std::move(robot)),
+      sessions_(sessions),
+      telemetry_(telemetry),
+      renderer_(renderer),
+      seal_(std::move(seal)),
+      max_handler_threads_(max_handler_threads) {}
 
 double SimulatorService::ObserveToWire(Session& session, v1::FrameStamp* stamp, v1::Observation* wire) {
   render::CameraRenderer* renderer = session.model->cameras.empty() ? nullptr : &renderer_->Get();
@@ -42,7 +48,14 @@ grpc::Status SimulatorService::GetServerInfo(grpc::ServerContext*, const v1::Get
   for (ControlMode mode : AllControlModes()) info->add_control_modes(ControlModeName(mode));
   info->mutable_limits()->set_max_sessions(sessions_->max_sessions());
   info->mutable_limits()->set_idle_timeout_s(sessions_->idle_timeout_s());
-  info->mutable_limits()->set_active_sessions(sessions_->size());
+  v1::ServerLimits* limits = info->mutable_limits();
+  limits->set_active_sessions(sessions_->size());
+  limits->set_memory_budget_bytes(sessions_->memory_budget_bytes());
+  limits->set_memory_reserved_bytes(sessions_->memory_reserved_bytes());
+  limits->set_max_handler_threads(max_handler_threads_);
+  limits->set_max_food_particles(kMaxFoodParticles);
+  limits->set_max_mpm_substeps_per_step(kMaxMpmSubstepsPerControlStep);
+  limits->set_max_camera_pixels(kMaxCameraPixelsPerSession);
   return grpc::Status::OK;
 }
 
@@ -59,12 +72,9 @@ grpc::Status SimulatorService::CreateSession(grpc::ServerContext*, const v1::Cre
                                         "server: ") + error.what() + " (or leave scene.cameras empty to run without images)");
       }
     }
-    const std::shared_ptr<Session> session = sessions_->Create(model);
-    if (!session) {
-      return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
-                          "the server already runs its maximum of " + std::to_string(sessions_->max_sessions()) +
-                              " sessions; close one (CloseSession) or start the server with a larger --max-sessions");
-    }
+    std::string refusal;
+    const std::shared_ptr<Session> session = sessions_->Create(model, &refusal);
+    if (!session) return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED, refusal);
     response->set_session_id(session->id);
     StampToWire(0, 0.0, response->mutable_stamp());
     DescribeSpaces(*model, response);

@@ -18,7 +18,7 @@ class SimulatorService final : public v1::Simulator::Service {
  public:
   // `telemetry` may be null (telemetry off); `renderer` starts only when a scene declares cameras.
   SimulatorService(RobotDescription robot, SessionManager* sessions, TelemetryPublisher* telemetry,
-                   SharedRenderer* renderer, SnapshotSeal seal);
+                   SharedRenderer* renderer, SnapshotSeal seal, std::uint32_t max_handler_threads);
 
   grpc::Status GetServerInfo(grpc::ServerContext*, const v1::GetServerInfoRequest*, v1::ServerInfo*) override;
   grpc::Status CreateSession(grpc::ServerContext*, const v1::CreateSessionRequest*, v1::CreateSessionResponse*) override;
@@ -41,6 +41,7 @@ class SimulatorService final : public v1::Simulator::Service {
   TelemetryPublisher* telemetry_;
   SharedRenderer* renderer_;
   const SnapshotSeal seal_;
+  const std::uint32_t max_handler_threads_;  // published in GetServerInfo
 };
 
 }  // namespace culinarycut::server
