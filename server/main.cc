@@ -39,6 +39,9 @@ int main(int argc, char** argv) {
   app.add_option("--max-handler-threads", options.max_handler_threads, "gRPC threads serving calls at once")
       ->capture_default_str()
       ->check(CLI::Range(4, 4096));
+  app.add_flag("--insecure", options.insecure,
+               "allow a non-loopback --listen without TLS or authentication (anyone who reaches it controls every "
+               "session)");
   app.add_option("--robot-urdf", options.robot_urdf_path, "robot description (default: the shipped Panda with knife)");
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")
       ->capture_default_str()

@@ -15,6 +15,9 @@ struct ServerOptions {
   std::string snapshot_key_file;                     // empty: a random key, snapshots stay with this process
   std::uint64_t memory_budget_mb = 0;                // all sessions together; 0: 3/4 of the machine's memory
   std::uint32_t max_handler_threads = 64;            // gRPC threads serving calls at once
+  // The server has no TLS or authentication yet: it listens on loopback (or a unix socket) unless
+  // this is set, and then says loudly that anyone who reaches the port controls every session.
+  bool insecure = false;
 };
 
 }  // namespace culinarycut::server

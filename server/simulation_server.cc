@@ -8,6 +8,7 @@
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/health_check_service_interface.h>
 #include <grpcpp/resource_quota.h>
+#include <spdlog/spdlog.h>
 
 #include "sim/world/model.h"
 
@@ -27,6 +28,13 @@ void CheckListenAddress(const std::string& address) {
   }
 }
 
+// Loopback hosts (127.0.0.0/8, localhost, [::1]) and unix sockets: reachable only from this machine.
+bool IsLoopbackOrUnix(const std::string& address) {
+  if (address.rfind("unix:", 0) == 0) return true;
+  const std::string host = address.substr(0, address.rfind(':'));
+  return host.rfind("127.", 0) == 0 || host == "localhost" || host == "[::1]" || host == "ipv4:127.0.0.1";
+}
+
 // The sessions' memory budget: the flag, or three quarters of the machine's memory.
 std::uint64_t MemoryBudgetBytes(std::uint64_t budget_mb) {
   if (budget_mb > 0) return budget_mb << 20;
@@ -41,6 +49,24 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   if (options.max_sessions == 0) throw std::runtime_error("--max-sessions must be at least 1");
   if (!(options.idle_timeout_s > 0)) throw std::runtime_error("--idle-timeout must be a positive number of seconds");
   CheckListenAddress(options.listen_address);
+  if (!options.insecure && !IsLoopbackOrUnix(options.listen_address)) {
+    throw std::runtime_error("--listen " + options.listen_address +
+                             " is not a loopback address, and this server has no TLS or authentication yet: anyone "
+                             "who reaches it could drive or close every session. Listen on 127.0.0.1 (and tunnel, "
+                             "e.g. ssh -L), or pass --insecure to accept the risk");
+  }
+  const std::string telemetry_host = options.telemetry_endpoint.rfind("tcp://", 0) == 0
+                                         ? options.telemetry_endpoint.substr(6)
+                                         : std::string("127.0.0.1:0");
+  if (!options.insecure && !options.telemetry_endpoint.empty() && !IsLoopbackOrUnix(telemetry_host)) {
+    throw std::runtime_error("--telemetry " + options.telemetry_endpoint +
+                             " is not on loopback: telemetry names every session and is not encrypted. Bind it to "
+                             "tcp://127.0.0.1:PORT, or pass --insecure to accept the risk");
+  }
+  if (options.insecure && !IsLoopbackOrUnix(options.listen_address)) {
+    spdlog::warn("--insecure: listening on {} without TLS or authentication; anyone who reaches it controls every "
+                 "session", options.listen_address);
+  }
   const std::string urdf = options.robot_urdf_path.empty() ? DefaultRobotUrdfPath() : options.robot_urdf_path;
   RobotDescription robot = LoadRobotDescription(urdf, kTcpFrame);
   // Fail at start, not on the first CreateSession, if the robot cannot make a default scene.

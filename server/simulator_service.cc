@@ -67,14 +67,14 @@ grpc::Status SimulatorService::CreateSession(grpc::ServerContext*, const v1::Cre
       try {
         renderer_->Get();
       } catch (const render::RenderError& error) {
-        return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
+        return MakeStatus(grpc::StatusCode::FAILED_PRECONDITION,
                             std::string("scene.cameras need the headless renderer, which could not start on this "
                                         "server: ") + error.what() + " (or leave scene.cameras empty to run without images)");
       }
     }
     std::string refusal;
     const std::shared_ptr<Session> session = sessions_->Create(model, &refusal);
-    if (!session) return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED, refusal);
+    if (!session) return MakeStatus(grpc::StatusCode::RESOURCE_EXHAUSTED, refusal);
     response->set_session_id(session->id);
     StampToWire(0, 0.0, response->mutable_stamp());
     DescribeSpaces(*model, response);
@@ -123,7 +123,7 @@ grpc::Status SimulatorService::Step(grpc::ServerContext* context, const v1::Step
       session->broken_reason = std::string("Step failed at frame ") + std::to_string(session->state.frame_id) +
                                ": " + error.what();
       spdlog::error("session {}: {}", session->id, session->broken_reason);
-      return grpc::Status(grpc::StatusCode::INTERNAL, session->broken_reason +
+      return MakeStatus(grpc::StatusCode::INTERNAL, session->broken_reason +
                                                           "; the session is now broken: call Reset or RestoreSnapshot");
     }
     if (result.cancelled) return NotApplied(*context);

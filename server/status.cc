@@ -1,6 +1,7 @@
 #include "server/status.h"
 
 #include <chrono>
+#include <cstdio>
 
 #include <spdlog/spdlog.h>
 
@@ -13,16 +14,34 @@
 namespace culinarycut::server {
 
 grpc::Status NotReset(const Session& session) {
-  return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
+  return MakeStatus(grpc::StatusCode::FAILED_PRECONDITION,
                       "session " + session.id +
                           " has not been reset; call Reset before Step, Observe, SaveSnapshot or "
                           "StartOracle");
 }
 
 grpc::Status Broken(const Session& session) {
-  return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
+  return MakeStatus(grpc::StatusCode::FAILED_PRECONDITION,
                       "session " + session.id + " is broken: " + session.broken_reason +
                           "; call Reset, or RestoreSnapshot with a snapshot taken before, to go on");
+}
+
+std::string SafeMessage(const std::string& message) {
+  constexpr std::size_t kMaxLength = 1000;
+  std::string safe;
+  std::size_t used = 0;
+  for (; used < message.size() && safe.size() < kMaxLength; ++used) {
+    const unsigned char c = static_cast<unsigned char>(message[used]);
+    if (c >= 0x20 && c < 0x7f) {
+      safe += static_cast<char>(c);
+    } else {
+      char escaped[8];
+      std::snprintf(escaped, sizeof(escaped), "\\x%02x", c);
+      safe += escaped;
+    }
+  }
+  if (used < message.size()) safe += "... (" + std::to_string(message.size() - used) + " more characters)";
+  return safe;
 }
 
 bool CallAbandoned(const grpc::ServerContext& context) {
@@ -41,7 +60,7 @@ grpc::Status FindSession(SessionManager* sessions, const std::string& session_id
   if (session_id.empty()) return InvalidArgument("session_id is empty; pass the id CreateSession returned");
   *session = sessions->Find(session_id);
   if (!*session) {
-    return grpc::Status(grpc::StatusCode::NOT_FOUND,
+    return MakeStatus(grpc::StatusCode::NOT_FOUND,
                         "no session '" + session_id.substr(0, 64) + (session_id.size() > 64 ? "...'" : "'") +
                             ": it was closed, reclaimed after being idle, or never existed");
   }
@@ -54,7 +73,7 @@ grpc::Status StatusFromCurrentException() {
   } catch (const FieldError& error) {
     return InvalidArgument(error.what());
   } catch (const UnimplementedField& error) {
-    return grpc::Status(grpc::StatusCode::UNIMPLEMENTED, error.what());
+    return MakeStatus(grpc::StatusCode::UNIMPLEMENTED, error.what());
   } catch (const SceneError& error) {
     return InvalidArgument(error.what());
   } catch (const SnapshotError& error) {
@@ -63,14 +82,14 @@ grpc::Status StatusFromCurrentException() {
     return InvalidArgument(error.what());
   } catch (const render::RenderError& error) {
     spdlog::error("rendering failed: {}", error.what());
-    return grpc::Status(grpc::StatusCode::INTERNAL,
+    return MakeStatus(grpc::StatusCode::INTERNAL,
                         std::string("rendering the cameras failed: ") + error.what() +
                             "; the simulation state is intact (Observe retries the images)");
   } catch (const std::exception& error) {
     spdlog::error("internal error: {}", error.what());
-    return grpc::Status(grpc::StatusCode::INTERNAL, std::string("internal error: ") + error.what());
+    return MakeStatus(grpc::StatusCode::INTERNAL, std::string("internal error: ") + error.what());
   } catch (...) {
-    return grpc::Status(grpc::StatusCode::INTERNAL, "internal error of an unknown kind");
+    return MakeStatus(grpc::StatusCode::INTERNAL, "internal error of an unknown kind");
   }
 }
 

@@ -12,8 +12,18 @@
 
 namespace culinarycut::server {
 
+// A message safe to send and print: bytes that are not printable ASCII are escaped (\xNN, so a NUL
+// no longer empties it), and past 1,000 characters it is cut with a count of what was left out, so
+// an echoed megabyte of input never reaches the client.
+std::string SafeMessage(const std::string& message);
+
+// Every status the server sends goes through here (the message made safe).
+inline grpc::Status MakeStatus(grpc::StatusCode code, const std::string& message) {
+  return grpc::Status(code, SafeMessage(message));
+}
+
 inline grpc::Status InvalidArgument(const std::string& message) {
-  return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, message);
+  return MakeStatus(grpc::StatusCode::INVALID_ARGUMENT, message);
 }
 
 // FAILED_PRECONDITION for a call that needs an episode on a session never reset.

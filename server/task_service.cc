@@ -178,7 +178,7 @@ grpc::Status TaskService::OracleAction(grpc::ServerContext*, const v1::OracleAct
   }
   SessionLock lock(*session);
   if (!session->oracle) {
-    return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
+    return MakeStatus(grpc::StatusCode::FAILED_PRECONDITION,
                         "session " + session->id +
                             " has no oracle plan for this episode; call StartOracle after Reset");
   }

@@ -25,18 +25,20 @@ void AddImageSpec(v1::CreateSessionResponse* response, const std::string& name, 
 
 CameraConfig CameraFromWire(const v1::CameraSpec& wire, const std::string& field) {
   CameraConfig camera;
-  camera.name = wire.name();
+  camera.name = TextFromWire(wire.name(), field + ".name");
   const v1::Pose& pose = wire.pose();
   if (pose.position_size() != 0 || pose.quaternion_size() != 0) {  // neither: a default camera's pose
     camera.pose = PoseFromWire(pose, field + ".pose");
   }
-  camera.attached_link = wire.attached_link();
+  camera.attached_link = TextFromWire(wire.attached_link(), field + ".attached_link");
   camera.fov_y_deg = FiniteFromWire(wire.fov_y_deg(), field + ".fov_y_deg");
   // Sizes fit an int here; the model checks the supported range (scene_config.h).
   camera.width = CountFromWire(wire.width(), 1u << 20, field + ".width");
   camera.height = CountFromWire(wire.height(), 1u << 20, field + ".height");
-  camera.channels.assign(wire.channels().begin(), wire.channels().end());
-  camera.rgb_encoding = wire.rgb_encoding();
+  for (int i = 0; i < wire.channels_size(); ++i) {
+    camera.channels.push_back(TextFromWire(wire.channels(i), field + ".channels[" + std::to_string(i) + "]"));
+  }
+  camera.rgb_encoding = TextFromWire(wire.rgb_encoding(), field + ".rgb_encoding");
   return camera;
 }
 

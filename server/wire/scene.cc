@@ -8,7 +8,7 @@ namespace {
 
 FoodConfig FoodFromWire(const v1::FoodObject& wire, const std::string& field) {
   FoodConfig food;
-  food.food = wire.food();
+  food.food = TextFromWire(wire.food(), field + ".food");
   if (food.food.empty()) throw FieldError(field + ".food", "is empty; name a food, e.g. \"cucumber\"");
   food.scale = wire.scale() == 0 ? 1.0 : RangeFromWire(wire.scale(), 1e-3, 10.0, field + ".scale");
   const v1::Pose& pose = wire.pose();
@@ -23,18 +23,22 @@ FoodConfig FoodFromWire(const v1::FoodObject& wire, const std::string& field) {
     }
     food.orientation = q.normalized();
   }
-  food.material = wire.material();
+  food.material = TextFromWire(wire.material(), field + ".material");
   for (const auto& [key, value] : wire.material_overrides()) {
-    food.material_overrides[key] = FiniteFromWire(value, field + ".material_overrides." + key.substr(0, 64));
+    const std::string& name = TextFromWire(key, field + ".material_overrides (a key)", 64);
+    food.material_overrides[name] = FiniteFromWire(value, field + ".material_overrides." + name);
   }
   return food;
 }
 
 TaskConfig TaskFromWire(const v1::TaskSpec& task) {
-  return TaskConfig{task.instruction(), task.cut_style(), task.cut_state(),
+  return TaskConfig{TextFromWire(task.instruction(), "scene.task.instruction", 2000),
+                    TextFromWire(task.cut_style(), "scene.task.cut_style"),
+                    TextFromWire(task.cut_state(), "scene.task.cut_state"),
                     FiniteFromWire(task.ratio(), "scene.task.ratio"),
-                    CountFromWire(task.split_pieces(), 1000, "scene.task.split_pieces"), task.target_object(),
-                    task.reference()};
+                    CountFromWire(task.split_pieces(), 1000, "scene.task.split_pieces"),
+                    TextFromWire(task.target_object(), "scene.task.target_object"),
+                    TextFromWire(task.reference(), "scene.task.reference")};
 }
 
 }  // namespace
@@ -60,9 +64,9 @@ SceneConfig SceneFromWire(const v1::SceneSpec& wire) {
   }
   if (mpm.cfl() != 0) config.mpm.cfl = FiniteFromWire(mpm.cfl(), "scene.mpm.cfl");
   config.seed = wire.seed();
-  if (!wire.quality().empty()) config.quality = wire.quality();
+  if (!wire.quality().empty()) config.quality = TextFromWire(wire.quality(), "scene.quality");
   config.max_episode_steps = wire.max_episode_steps();
-  if (!wire.scene().empty()) config.scene = wire.scene();
+  if (!wire.scene().empty()) config.scene = TextFromWire(wire.scene(), "scene.scene");
   const v1::RobotSpec& robot = wire.robot();
   if (robot.control_frequency_hz() != 0) {
     config.robot.control_frequency_hz = FiniteFromWire(robot.control_frequency_hz(), "scene.robot.control_frequency_hz");

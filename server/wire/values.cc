@@ -7,6 +7,20 @@
 
 namespace culinarycut::server {
 
+const std::string& TextFromWire(const std::string& value, const std::string& field, std::size_t max_length) {
+  if (value.size() > max_length) {
+    throw FieldError(field, "is " + std::to_string(value.size()) + " bytes long; at most " + std::to_string(max_length));
+  }
+  for (std::size_t i = 0; i < value.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(value[i]);
+    if (c < 0x20 || c == 0x7f) {
+      throw FieldError(field, "holds a control character (byte " + std::to_string(c) + " at position " +
+                                  std::to_string(i) + "); use printable text");
+    }
+  }
+  return value;
+}
+
 double FiniteFromWire(double value, const std::string& field) {
   if (!std::isfinite(value)) throw FieldError(field, "must be a finite number");
   return value;

@@ -35,6 +35,10 @@ void AssignBytes(const std::vector<T>& pixels, std::string* field) {
   field->assign(reinterpret_cast<const char*>(pixels.data()), pixels.size() * sizeof(T));
 }
 
+// A name or text from the wire: at most `max_length` bytes and no control characters (a NUL would
+// cut every message that quotes it). UTF-8 beyond ASCII passes.
+const std::string& TextFromWire(const std::string& value, const std::string& field, std::size_t max_length = 256);
+
 // `value` must be finite.
 double FiniteFromWire(double value, const std::string& field);
 // `value` must be finite and in [low, high]; `unit` is appended to the bounds in the message.

@@ -99,3 +99,29 @@ def test_an_absurd_session_id_gets_a_short_answer(client):
         client.step("s-" + "x" * 100_000, "pd_joint_delta_pos", np.zeros(7))
     assert len(missing.value.details) < 300
     assert re.search(r"no session 's-x+\.\.\.'", missing.value.details)
+
+
+@pytest.mark.parametrize("args, flag", [(["--listen", "0.0.0.0:0", "--telemetry", ""], "--listen 0.0.0.0:0"),
+                                        (["--listen", "127.0.0.1:0", "--telemetry", "tcp://0.0.0.0:0"], "--telemetry")])
+def test_off_loopback_without_tls_needs_insecure(args, flag):
+    refused = subprocess.run([str(server_binary()), *args], capture_output=True, text=True, timeout=30)
+    assert refused.returncode == 2 and flag in refused.stderr and "--insecure" in refused.stderr
+    # With --insecure it starts, and warns.
+    with ServerProcess(server_binary(), max_sessions=1, extra_args=["--insecure"]) as server:
+        assert server.address
+
+
+def test_echoed_input_comes_back_short_and_escaped(client):
+    with pytest.raises(CulinaryCutError) as huge:
+        client.create_session({"effects": {"mpm": True}, "objects": [{"food": "x" * 1_600_000}]})
+    assert huge.value.code.name == "INVALID_ARGUMENT"
+    assert len(huge.value.details) < 300 and "scene.objects[0].food" in huge.value.details
+    with pytest.raises(CulinaryCutError) as nul:
+        client.create_session({"effects": {"mpm": True}, "objects": [{"food": "dur\x00ian"}]})
+    assert "scene.objects[0].food" in nul.value.details and "control character" in nul.value.details
+
+
+def test_a_huge_instruction_is_not_echoed_back_whole(client):
+    with pytest.raises(CulinaryCutError) as refused:
+        client.tasks.parse_instruction("cut the " + "zucchini " * 20_000)
+    assert refused.value.code.name == "INVALID_ARGUMENT" and len(refused.value.details) < 1100
