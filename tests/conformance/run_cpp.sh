@@ -3,14 +3,9 @@
 # Usage: run_cpp.sh CONFORMANCE_BINARY CASES_JSON SERVER_BINARY
 set -euo pipefail
 runner=$1 cases=$2 server=$3
+source "$(dirname "$0")/../support/start_server.sh"
 log=$(mktemp)
-"$server" --listen 127.0.0.1:0 --telemetry "" > "$log" 2>&1 &
-pid=$!
-trap 'kill $pid 2>/dev/null; wait 2>/dev/null; rm -f "$log"' EXIT
-for _ in $(seq 100); do
-  address=$(sed -n 's/^culinarycut-server listening on //p' "$log")
-  [ -n "$address" ] && break
-  sleep 0.1
-done
-[ -n "${address:-}" ] || { echo "the server did not start:"; cat "$log"; exit 1; }
-"$runner" "$cases" "$address"
+SERVER_PID=""
+trap '[ -n "$SERVER_PID" ] && kill $SERVER_PID 2>/dev/null; wait 2>/dev/null; rm -f "$log"' EXIT
+start_server "$server" "$log"
+"$runner" "$cases" "$SERVER_ADDRESS"
