@@ -37,3 +37,9 @@ def test_an_unbounded_scene_is_refused_before_any_work(client, scene, field, hin
     elapsed = time.monotonic() - started
     assert field in refused.value.details and hint in refused.value.details, refused.value.details
     assert elapsed < 1.0, f"refused only after {elapsed:.2f} s"
+
+
+def test_a_nan_camera_quaternion_is_refused_naming_the_field(client):
+    scene = {"cameras": [{"name": "c", "pose": {"position": [0.5, 0.0, 1.0], "quaternion": ["NaN", 1, 0, 0]}}]}
+    with pytest.raises(InvalidArgument, match=r"scene\.cameras\[0\]\.pose\.quaternion"):
+        client.create_session(scene)
