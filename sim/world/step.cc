@@ -129,6 +129,8 @@ StepResult Step(const Model& model, State* state, const Action& action, const Ca
     EvaluateStep(model, *state, &result);
   }
   AdvanceClock(model, state, &result);
+  // Asked once more at the end: a caller gone while the last substeps ran gets nothing applied.
+  if (stop_here()) return result;
   result.wall_time_ms = MillisecondsSince(start);
   return result;
 }
