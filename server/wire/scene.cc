@@ -12,7 +12,15 @@ FoodConfig FoodFromWire(const v1::FoodObject& wire, const std::string& field) {
   if (food.food.empty()) throw FieldError(field + ".food", "is empty; name a food, e.g. \"cucumber\"");
   food.scale = wire.scale() == 0 ? 1.0 : RangeFromWire(wire.scale(), 1e-3, 10.0, field + ".scale");
   const v1::Pose& pose = wire.pose();
-  if (pose.position_size() != 0) food.position_m = Vector3FromWire(pose.position(), field + ".pose.position");
+  if (pose.position_size() == 2) {  // [x, y]: resting on the board there
+    food.board_xy_m = Eigen::Vector2d(FiniteFromWire(pose.position(0), field + ".pose.position[0]"),
+                                      FiniteFromWire(pose.position(1), field + ".pose.position[1]"));
+  } else if (pose.position_size() != 0) {
+    if (pose.position_size() != 3) {
+      throw FieldError(field + ".pose.position", "must have 3 values [x, y, z], 2 [x, y] (resting on the board) or none");
+    }
+    food.position_m = Vector3FromWire(pose.position(), field + ".pose.position");
+  }
   if (pose.quaternion_size() != 0) {
     if (pose.quaternion_size() != 4) {
       throw FieldError(field + ".pose.quaternion", "must have 4 values [w, x, y, z] or none");
@@ -120,6 +128,10 @@ v1::SceneSpec SceneToWire(const SceneConfig& config) {
     object->set_material(food.material);
     for (const auto& [key, value] : food.material_overrides) (*object->mutable_material_overrides())[key] = value;
     if (food.position_m) AssignVector(*food.position_m, object->mutable_pose()->mutable_position());
+    if (food.board_xy_m) {
+      object->mutable_pose()->add_position(food.board_xy_m->x());
+      object->mutable_pose()->add_position(food.board_xy_m->y());
+    }
     if (food.orientation) {
       for (double c : {food.orientation->w(), food.orientation->x(), food.orientation->y(), food.orientation->z()}) {
         object->mutable_pose()->add_quaternion(c);

@@ -41,8 +41,8 @@ mpm::Material ResolveFoodMaterial(const FoodConfig& food, const std::string& fie
   return material;
 }
 
-// Where a food lies: the given pose, or resting on the board, objects side by side along x, with
-// the long axis left-right (world y) so "from the left" runs along the board's width.
+// Where a food lies: the given pose, or resting on the board at the given (x, y) or side by side
+// along x, with the long axis left-right (world y) so "from the left" runs along the board's width.
 Eigen::Isometry3d FoodPose(const FoodConfig& food, const mpm::FoodShape& shape, const SceneLayout& layout,
                            int index, int count) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -61,8 +61,9 @@ Eigen::Isometry3d FoodPose(const FoodConfig& food, const mpm::FoodShape& shape, 
   }
   const double spacing_m = 0.12;  // between neighbouring objects along x
   const double board_top_m = layout.board_center_m.z() + 0.5 * layout.board_size_m.z();
-  pose.translation() = Eigen::Vector3d(layout.board_center_m.x() + (index - 0.5 * (count - 1)) * spacing_m,
-                                       layout.board_center_m.y(), board_top_m - lowest_m);
+  const Eigen::Vector2d xy_m = food.board_xy_m.value_or(Eigen::Vector2d(
+      layout.board_center_m.x() + (index - 0.5 * (count - 1)) * spacing_m, layout.board_center_m.y()));
+  pose.translation() = Eigen::Vector3d(xy_m.x(), xy_m.y(), board_top_m - lowest_m);
   return pose;
 }
 

@@ -33,6 +33,7 @@ struct FoodConfig {
   std::string food;                                // banana, cucumber, apple, peach, melon, orange, strawberry
   double scale = 1.0;                              // multiplies the food's typical size
   std::optional<Eigen::Vector3d> position_m;       // bounding-box centre; default: on the board, resting on it
+  std::optional<Eigen::Vector2d> board_xy_m;       // or only (x, y) of the centre, resting on the board
   std::optional<Eigen::Quaterniond> orientation;   // default: long axis left-right (world y), lying
   std::string material;                            // preset name; empty: the food's own
   std::map<std::string, double> material_overrides;  // youngs_modulus_pa, poisson_ratio, density_kg_m3, ...

@@ -48,6 +48,20 @@ def test_the_resolved_scene_places_the_food_and_names_the_resolution(client):
     client.close_session(handshake.session_id)
 
 
+def test_a_food_given_only_x_and_y_rests_on_the_board_there(client):
+    default = client.create_session(cutting_scene(SOFT_CUCUMBER))
+    lying = default.resolved_scene.objects[0].pose.position
+    client.close_session(default.session_id)
+    handshake = client.create_session(cutting_scene({**SOFT_CUCUMBER, "pose": {"position": [0.45, 0.05]}}))
+    position = np.asarray(handshake.resolved_scene.objects[0].pose.position)
+    np.testing.assert_allclose(position, [0.45, 0.05, lying[2]], atol=1e-12)  # same height as the default
+    client.close_session(handshake.session_id)
+    with pytest.raises(errors.InvalidArgument, match=r"scene.objects\[0\].pose.position"):
+        client.create_session(cutting_scene({**SOFT_CUCUMBER, "pose": {"position": [0.45]}}))
+    with pytest.raises(errors.InvalidArgument, match=r"off the table"):
+        client.create_session(cutting_scene({**SOFT_CUCUMBER, "pose": {"position": [5.0, 0.0]}}))
+
+
 def test_mpm_sleeps_until_the_knife_approaches(client):
     session = client.create_session(cutting_scene(SOFT_CUCUMBER)).session_id
     client.reset(session)
