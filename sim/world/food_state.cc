@@ -19,6 +19,12 @@ void UpdatePieces(const FoodModel& model, FoodState* state) {
   state->pieces = mpm::DetectPieces(model.topology, &state->solver->particles());
 }
 
+std::vector<mpm::Piece> MeasurePieces(const FoodModel& model, const FoodState& state) {
+  if (model.topology_update) return state.pieces;
+  mpm::Particles<float> scratch = state.solver->particles();
+  return mpm::DetectPieces(model.topology, &scratch);
+}
+
 Eigen::AlignedBox3f ParticleBounds(const mpm::Particles<float>& particles) {
   Eigen::AlignedBox3f bounds;
   for (std::size_t i = 0; i < particles.size(); ++i) {

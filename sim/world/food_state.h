@@ -47,4 +47,9 @@ Eigen::AlignedBox3f ParticleBounds(const mpm::Particles<float>& particles);
 // Detects the pieces now (labels every particle's piece).
 void UpdatePieces(const FoodModel& model, FoodState* state);
 
+// The pieces the food is in now, for scoring the task: the last topology update's, or, with topology
+// updates off (the paper's ablation: what is observed keeps its connectivity), detected on a copy of
+// the particles so the observed labels stay as they were.
+std::vector<mpm::Piece> MeasurePieces(const FoodModel& model, const FoodState& state);
+
 }  // namespace culinarycut

@@ -112,9 +112,6 @@ std::shared_ptr<const Model> CompileModel(const SceneConfig& config, const Robot
 
   if (!config.task.empty()) {
     if (!model->food) throw SceneError("scene.task needs food: declare scene.objects with effects.mpm");
-    if (!config.effects.topology) {
-      throw SceneError("scene.task needs effects.topology: the food's pieces are how the cuts are measured");
-    }
     model->task = CompileTask(config.task, *model->food, config.seed);
     if (config.task.instruction.empty()) {  // echo the spec with the default rules applied
       const task::CutSpec& spec = model->task->spec;

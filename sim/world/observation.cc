@@ -37,7 +37,7 @@ Observation Observe(const Model& model, const State& state, render::CameraRender
   }
   if (model.task) {
     observation.instruction = model.task->instruction;
-    observation.task_score = EvaluateTask(*model.task, *model.food, *state.food);
+    observation.task_score = EvaluateTask(*model.task, *model.food, MeasurePieces(*model.food, *state.food));
   }
   if (renderer && !model.cameras.empty()) {
     StageTimes times;

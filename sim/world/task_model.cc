@@ -78,9 +78,9 @@ TaskModel CompileTask(const TaskConfig& config, const FoodModel& food, std::uint
   return model;
 }
 
-task::TaskScore EvaluateTask(const TaskModel& task, const FoodModel& food, const FoodState& state) {
+task::TaskScore EvaluateTask(const TaskModel& task, const FoodModel& food, const std::vector<mpm::Piece>& pieces) {
   std::vector<std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>> bounds_of_object(food.objects.size());
-  for (const mpm::Piece& piece : state.pieces) {
+  for (const mpm::Piece& piece : pieces) {
     const double share = static_cast<double>(piece.particle_count) / std::max<std::size_t>(1, task.object_particles[piece.object]);
     if (share < task.min_piece_fraction) continue;  // a crumb, not a piece
     bounds_of_object[piece.object].emplace_back(piece.bounds_m.min(), piece.bounds_m.max());

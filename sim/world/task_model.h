@@ -33,6 +33,6 @@ struct TaskModel {
 TaskModel CompileTask(const TaskConfig& config, const FoodModel& food, std::uint64_t seed);
 
 // The task's score now, from the pieces of the last topology update.
-task::TaskScore EvaluateTask(const TaskModel& task, const FoodModel& food, const FoodState& state);
+task::TaskScore EvaluateTask(const TaskModel& task, const FoodModel& food, const std::vector<mpm::Piece>& pieces);
 
 }  // namespace culinarycut
