@@ -17,7 +17,7 @@ PACKAGES=(
   # tests and benchmarks
   catch2 libbenchmark-dev
   # Python client: Debian's packages, plus a project virtualenv for what Debian lacks (requirements/pypi.txt)
-  python3 python3-venv python3-grpcio python3-grpc-tools python3-protobuf python3-numpy python3-zmq python3-pytest python3-opencv
+  python3 python3-venv python3-grpcio python3-grpc-tools python3-protobuf python3-numpy python3-zmq python3-pytest python3-opencv python3-jsonschema
   # plots in benchmarks, docs and examples
   python3-matplotlib
 )
