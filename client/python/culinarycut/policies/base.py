@@ -1,0 +1,49 @@
+"""The policy interface the benchmark runner drives: reset with the instruction, then one action per step.
+
+A policy is a small class; the runner makes one per episode from its registered name and options:
+
+    class MyPolicy(Policy):
+        name = "my-policy"
+        version = "1"
+        control_mode = "pd_ee_delta_pose"      # the mode its actions are in (ManiSkill's names)
+        cameras = ({"name": "front"},)          # what it needs to see; added to the episode's scene
+
+        def reset(self, instruction, info): ...
+        def act(self, observation): return self.control_mode, action
+
+`observation` is CulinaryCutEnv's (ManiSkill's layout); `info` at reset holds the seed, the episode's
+`session` (client and session id, for policies that plan on the server such as the oracle) and the
+scene's objects. A policy that is done early sets `finished`; the episode then ends.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class EpisodeSession:
+    """The server session an episode runs in (for policies that call the server themselves)."""
+
+    client: Any        # culinarycut.client.Client
+    session_id: str
+
+
+class Policy:
+    name = "policy"
+    version = "0"
+    control_mode = "pd_ee_delta_pose"
+    cameras: tuple = ()
+
+    def __init__(self, **options):
+        if options:
+            raise ValueError(f"policy {self.name!r} takes no options; got {sorted(options)}")
+        self.finished = False
+
+    def reset(self, instruction: str, info: dict[str, Any]) -> None:
+        self.finished = False
+
+    def act(self, observation: dict[str, Any]) -> tuple[str, np.ndarray]:
+        raise NotImplementedError
