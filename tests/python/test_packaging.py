@@ -61,6 +61,7 @@ def test_a_wheel_built_without_isolation_carries_the_stubs_and_serves(clean_chec
     names = set(zipfile.ZipFile(wheel).namelist())
     assert {f"culinarycut/v1/{stub}" for stub in STUBS} <= names
     assert "culinarycut/env.py" in names and "generate_stubs.py" not in names  # a build helper, not the package
+    assert "culinarycut/bench/suite_schema.json" in names  # data the suites are validated against
     assert not (package / "culinarycut" / "v1").exists()  # generated in the build folder, not the sources
 
     python = fresh_venv(tmp_path / "venv")

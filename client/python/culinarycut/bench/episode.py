@@ -1,0 +1,191 @@
+"""One benchmark episode on one server: a session of the episode's scene, the policy stepped until the
+task is done, fails, runs out of steps or the policy finishes; the outcome as one results row."""
+from __future__ import annotations
+
+import concurrent.futures
+import json
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from google.protobuf import json_format
+
+from culinarycut.bench.episode_scene import EpisodeSpec
+from culinarycut.client import Client
+from culinarycut.env import CulinaryCutEnv
+from culinarycut.errors import CulinaryCutError, Unavailable
+from culinarycut.policies.base import EpisodeSession, Policy
+from culinarycut.policies.registry import make_policy
+
+# --record-failures films the default front view; a policy that sees "front" itself shares its images.
+RECORD_CAMERA = {"name": "front", "width": 160, "height": 120, "channels": ["rgb"]}
+
+
+class ServerLost(Exception):
+    """The server stopped answering during the episode: run it again elsewhere."""
+
+
+@dataclass
+class EpisodeOptions:
+    policy: str
+    policy_options: dict = field(default_factory=dict)
+    act_timeout_s: float = 60.0       # a policy that takes longer for one action is a policy_error
+    record_video: bool = False        # frames of the "record" camera, kept for failed episodes
+    rpc_timeout_s: float = 600.0      # a draft Step is well under a second; a fine one can take minutes
+
+
+@dataclass
+class EpisodeResult:
+    row: dict[str, Any]
+    trace: dict[str, list]
+    frames: list = field(default_factory=list)  # HxWx3 uint8, only with record_video
+
+
+def _instruction(client: Client, spec: EpisodeSpec) -> str:
+    return client.tasks.generate_instructions(spec.task.cut_spec(), seed=spec.seed, count=1,
+                                              split=spec.language)[0]
+
+
+def _act(pool: concurrent.futures.ThreadPoolExecutor, policy: Policy, observation, timeout_s: float):
+    """The policy's action, or TimeoutError when it takes longer than timeout_s (its thread is left to finish)."""
+    return pool.submit(policy.act, observation).result(timeout=timeout_s)
+
+
+def _task_row(spec: EpisodeSpec) -> dict[str, Any]:
+    task = spec.task
+    return {"suite": spec.suite, "task": task.name, "trial": spec.trial, "seed": spec.seed, "group_name": task.group,
+            "food": task.food, "style": task.style, "state": task.state,
+            "ratio": task.ratio if task.state == "ratio" else None, "side": task.side,
+            "pieces_required": task.pieces if task.state == "split" else None, "distractors": task.distractors,
+            "topology": int(task.topology), "scene": task.scene, "language": task.language, "quality": task.quality}
+
+
+def _score_fields(score: dict | None) -> dict[str, Any]:
+    score = score or {}
+    cuts = [{"target_fraction": c["target_fraction"], "placed": c["placed"],
+             "measured_fraction": c["measured_fraction"], "position_error_fraction": c["position_error_fraction"],
+             "angle_error_deg": float(np.degrees(c["angle_error_rad"])) if c["angle_measured"] else None,
+             "correct": c["correct"]} for c in score.get("required", [])]
+    return {"cuts_required": score.get("cuts_required", 0), "cuts_correct": score.get("cuts_correct", 0),
+            "cuts_within_tolerance": score.get("cuts_within_position_tolerance", 0),
+            "extra_cuts": score.get("extra_cuts", 0), "wrong_object_cuts": score.get("wrong_object_cuts", 0),
+            "cuts": json.dumps(cuts), "score_summary": score.get("summary", "")}
+
+
+def run_episode(spec: EpisodeSpec, server: str, options: EpisodeOptions) -> EpisodeResult:
+    """Runs the episode on `server` (host:port). Raises ServerLost when the server stops answering;
+    every other fault (policy, scene, server error) ends in a row that says what happened."""
+    started = time.perf_counter()
+    row = _task_row(spec)
+    row.update(policy=options.policy, policy_options=json.dumps(options.policy_options, sort_keys=True),
+               server=server, outcome="error", end_reason="", error="", steps=0, sim_time_s=0.0,
+               peak_force_n=0.0, peak_speed_m_s=0.0, pieces=0, instruction="", resolved_scene="",
+               env_wall_s=0.0, policy_wall_s=0.0, stage_wall_s="{}", **_score_fields(None))
+    trace: dict[str, list] = {"time_s": [], "force_n": [], "speed_m_s": [], "tcp_z_m": []}
+    frames: list = []
+    try:
+        with Client(server, timeout_s=options.rpc_timeout_s) as client:
+            info = client.server_info()
+            row.update(server_version=info.version, build_id=info.build_id)
+            policy = make_policy(options.policy, options.policy_options)
+            row["policy_version"] = str(getattr(policy, "version", "0"))
+            _play(client, spec, policy, options, row, trace, frames)
+    except Unavailable as err:
+        raise ServerLost(f"{server}: {err.details}") from None
+    except CulinaryCutError as err:
+        row.update(outcome="error", end_reason="server_error", error=f"{err.code.name}: {err.details}"[:2000])
+    row["wall_s"] = time.perf_counter() - started
+    row.setdefault("server_version", "")
+    row.setdefault("build_id", "")
+    row.setdefault("policy_version", "")
+    return EpisodeResult(row=row, trace=trace, frames=frames)
+
+
+def _play(client: Client, spec: EpisodeSpec, policy: Policy, options: EpisodeOptions, row: dict, trace: dict,
+          frames: list) -> None:
+    scene = dict(spec.scene)
+    cameras = list(scene.get("cameras", [])) + [dict(c) for c in getattr(policy, "cameras", ())]
+    if options.record_video and not any(c["name"] == RECORD_CAMERA["name"] for c in cameras):
+        cameras.append(dict(RECORD_CAMERA))
+    scene["cameras"] = cameras
+    instruction = _instruction(client, spec)
+    scene["task"] = {"instruction": instruction}
+    row["instruction"] = instruction
+    env_wall = policy_wall = 0.0
+    clock = time.perf_counter()
+    with CulinaryCutEnv(client=client, scene=scene, control_mode=policy.control_mode) as env, \
+            concurrent.futures.ThreadPoolExecutor(1, thread_name_prefix="policy") as pool:
+        row["resolved_scene"] = json_format.MessageToJson(env.handshake.resolved_scene, indent=None,
+                                                          preserving_proto_field_name=True)
+        observation, info = env.reset(seed=spec.seed)
+        env_wall += time.perf_counter() - clock
+        info["session"] = EpisodeSession(client, env.session_id)
+        info["objects"] = scene["objects"]
+        try:
+            clock = time.perf_counter()
+            policy.reset(instruction, info)
+            policy_wall += time.perf_counter() - clock
+        except Unavailable:
+            raise
+        except Exception as err:  # the policy's own fault: recorded, the suite goes on
+            row.update(outcome="error", end_reason="policy_error", error=f"reset: {type(err).__name__}: {err}"[:2000])
+            return
+        end_reason, info = "step_limit", {}
+        for step in range(spec.task.max_episode_steps):
+            clock = time.perf_counter()
+            try:
+                mode, action = _act(pool, policy, observation, options.act_timeout_s)
+            except concurrent.futures.TimeoutError:
+                row.update(outcome="error", end_reason="policy_error",
+                           error=f"act took longer than {options.act_timeout_s:g} s at step {step}")
+                return
+            except Unavailable:
+                raise
+            except Exception as err:
+                row.update(outcome="error", end_reason="policy_error",
+                           error=f"act at step {step}: {type(err).__name__}: {err}"[:2000])
+                return
+            policy_wall += time.perf_counter() - clock
+            if mode != env.control_mode:
+                env.control_mode = mode  # the server checks the action against the mode
+            clock = time.perf_counter()
+            observation, _, terminated, truncated, info = env.step(action)
+            env_wall += time.perf_counter() - clock
+            _record_step(observation, info, trace, row, frames if options.record_video else None)
+            if terminated:
+                end_reason = "success"
+                break
+            if info["fail"]:
+                end_reason = "task_failed"
+                break
+            if truncated:
+                break
+            if policy.finished:
+                end_reason = "policy_finished"
+                break
+        row["steps"] = len(trace["time_s"])
+        row["sim_time_s"] = trace["time_s"][-1] if trace["time_s"] else 0.0
+        row["pieces"] = len(info.get("food", {}).get("pieces", []))
+        row.update(_score_fields(info.get("task")))
+        row["outcome"] = "success" if info.get("success") else "failure"
+        row["end_reason"] = end_reason
+        stats = client.session_stats(env.session_id)
+        row["stage_wall_s"] = json.dumps({k: round(v, 6) for k, v in sorted(stats.stage_wall_time_s.items())})
+    row["env_wall_s"] = env_wall
+    row["policy_wall_s"] = policy_wall
+
+
+def _record_step(observation, info, trace, row, frames) -> None:
+    extra = observation["extra"]
+    force_n = float(np.linalg.norm(extra["wrist_wrench"][:3]))
+    speed_m_s = float(np.linalg.norm(extra["tcp_velocity"][:3]))
+    trace["time_s"].append(round(info["sim_time"], 6))
+    trace["force_n"].append(round(force_n, 4))
+    trace["speed_m_s"].append(round(speed_m_s, 5))
+    trace["tcp_z_m"].append(round(float(extra["tcp_pose"][2]), 5))
+    row["peak_force_n"] = max(row["peak_force_n"], force_n)
+    row["peak_speed_m_s"] = max(row["peak_speed_m_s"], speed_m_s)
+    recorded = observation.get("sensor_data", {}).get(RECORD_CAMERA["name"], {})
+    if frames is not None and "rgb" in recorded:
+        frames.append(recorded["rgb"].copy())

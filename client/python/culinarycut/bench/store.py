@@ -1,0 +1,143 @@
+"""The results of one suite run: an SQLite database, one row per episode, in the run's folder.
+
+Each episode is written in its own transaction when it ends (WAL journal, synchronous=FULL), so a
+runner killed at any moment, kill -9 included, leaves every finished episode stored and none half
+written; started again on the same folder it runs only the episodes without a row. The primary key
+(task, trial) means an episode is recorded once, whatever retries happened on the way.
+"""
+from __future__ import annotations
+
+import json
+import sqlite3
+import time
+from pathlib import Path
+from typing import Any, Iterable
+
+DATABASE_NAME = "results.sqlite"
+SCHEMA_VERSION = "1"
+
+# The episodes table: name, SQL type, meaning (units in the name where there are any).
+EPISODE_COLUMNS = (
+    ("suite", "TEXT NOT NULL", "suite name"),
+    ("task", "TEXT NOT NULL", "task name within the suite"),
+    ("trial", "INTEGER NOT NULL", "0, 1, ... within the task"),
+    ("seed", "INTEGER NOT NULL", "from (suite, task, trial): replays the episode"),
+    ("group_name", "TEXT", "the task's group label (e.g. train-objects)"),
+    ("food", "TEXT", "target food"),
+    ("style", "TEXT", "cut style"),
+    ("state", "TEXT", "cut state"),
+    ("ratio", "REAL", "ratio cuts: the fraction"),
+    ("side", "TEXT", "directional reference"),
+    ("pieces_required", "INTEGER", "split cuts: the piece count"),
+    ("distractors", "INTEGER", "distractor foods in the scene"),
+    ("topology", "INTEGER", "1: topology updates on"),
+    ("scene", "TEXT", "table or kitchen"),
+    ("language", "TEXT", "train or held_out templates"),
+    ("quality", "TEXT", "MPM preset"),
+    ("instruction", "TEXT", "the instruction the policy was given"),
+    ("policy", "TEXT", "policy name"),
+    ("policy_version", "TEXT", "policy version"),
+    ("policy_options", "TEXT", "JSON"),
+    ("server", "TEXT", "host:port it ran on"),
+    ("server_version", "TEXT", "culinarycut-server version"),
+    ("build_id", "TEXT", "the server's build id"),
+    ("resolved_scene", "TEXT", "the SceneSpec the server resolved, JSON"),
+    ("outcome", "TEXT NOT NULL", "success, failure or error"),
+    ("end_reason", "TEXT", "success, task_failed, step_limit, policy_finished, policy_error, server_error"),
+    ("error", "TEXT", "what went wrong, for outcome error"),
+    ("cuts_required", "INTEGER", ""),
+    ("cuts_correct", "INTEGER", "in position and angle"),
+    ("cuts_within_tolerance", "INTEGER", "in position (the paper's split table)"),
+    ("extra_cuts", "INTEGER", ""),
+    ("wrong_object_cuts", "INTEGER", ""),
+    ("cuts", "TEXT", "JSON: per required cut target, measured fraction, position error (fraction), angle error (deg)"),
+    ("score_summary", "TEXT", "the server's one-line summary"),
+    ("pieces", "INTEGER", "pieces at the end"),
+    ("peak_force_n", "REAL", "peak knife force at the wrist (N)"),
+    ("peak_speed_m_s", "REAL", "peak knife (TCP) speed (m/s)"),
+    ("steps", "INTEGER", "control steps"),
+    ("sim_time_s", "REAL", "simulated time (s)"),
+    ("wall_s", "REAL", "episode wall time (s)"),
+    ("env_wall_s", "REAL", "wall time in reset and step calls (s)"),
+    ("policy_wall_s", "REAL", "wall time in the policy (s)"),
+    ("stage_wall_s", "TEXT", "JSON: the server's wall time by stage (s)"),
+    ("attempts", "INTEGER", "servers tried before it ran to the end"),
+    ("video", "TEXT", "file of the failure video, relative to the run folder"),
+    ("finished_at", "REAL", "Unix time the row was written"),
+)
+COLUMN_NAMES = tuple(name for name, _, _ in EPISODE_COLUMNS)
+
+
+class StoreError(RuntimeError):
+    pass
+
+
+class ResultStore:
+    """Open (or create) the database in `folder`."""
+
+    def __init__(self, folder: str | Path):
+        self.folder = Path(folder)
+        self.folder.mkdir(parents=True, exist_ok=True)
+        self.path = self.folder / DATABASE_NAME
+        self.db = sqlite3.connect(self.path, timeout=30.0, isolation_level=None)
+        self.db.execute("PRAGMA journal_mode=WAL")
+        self.db.execute("PRAGMA synchronous=FULL")
+        columns = ", ".join(f"{name} {kind}" for name, kind, _ in EPISODE_COLUMNS)
+        self.db.execute(f"CREATE TABLE IF NOT EXISTS episodes ({columns}, PRIMARY KEY (task, trial))")
+        self.db.execute("CREATE TABLE IF NOT EXISTS traces (task TEXT NOT NULL, trial INTEGER NOT NULL, "
+                        "trace TEXT NOT NULL, PRIMARY KEY (task, trial))")
+        self.db.execute("CREATE TABLE IF NOT EXISTS run (key TEXT PRIMARY KEY, value TEXT NOT NULL)")
+
+    def close(self) -> None:
+        self.db.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    # The run's identity: which suite, policy and server versions its rows belong to.
+    def metadata(self) -> dict[str, str]:
+        return dict(self.db.execute("SELECT key, value FROM run").fetchall())
+
+    def set_metadata(self, values: dict[str, Any]) -> None:
+        with self.db:
+            self.db.execute("BEGIN")
+            self.db.executemany("INSERT OR REPLACE INTO run (key, value) VALUES (?, ?)",
+                                [(k, v if isinstance(v, str) else json.dumps(v)) for k, v in values.items()])
+
+    def done_keys(self) -> set[tuple[str, int]]:
+        return set(self.db.execute("SELECT task, trial FROM episodes").fetchall())
+
+    def server_versions(self) -> set[tuple[str, str]]:
+        return set(self.db.execute("SELECT DISTINCT server_version, build_id FROM episodes").fetchall())
+
+    def record(self, row: dict[str, Any], trace: dict | None = None) -> bool:
+        """Writes one episode (and its trace) atomically; False if it was already there."""
+        unknown = set(row) - set(COLUMN_NAMES)
+        if unknown:
+            raise StoreError(f"unknown result columns {sorted(unknown)}")
+        row = {**row, "finished_at": row.get("finished_at", time.time())}
+        names = [n for n in COLUMN_NAMES if n in row]
+        placeholders = ", ".join("?" for _ in names)
+        with self.db:
+            self.db.execute("BEGIN IMMEDIATE")
+            cursor = self.db.execute(f"INSERT OR IGNORE INTO episodes ({', '.join(names)}) VALUES ({placeholders})",
+                                     [row[n] for n in names])
+            if cursor.rowcount and trace is not None:
+                self.db.execute("INSERT OR REPLACE INTO traces (task, trial, trace) VALUES (?, ?, ?)",
+                                (row["task"], row["trial"], json.dumps(trace, separators=(",", ":"))))
+        return cursor.rowcount == 1
+
+    def episodes(self, where: str = "", params: Iterable = ()) -> list[dict[str, Any]]:
+        self.db.row_factory = sqlite3.Row
+        try:
+            query = "SELECT * FROM episodes" + (f" WHERE {where}" if where else "") + " ORDER BY task, trial"
+            return [dict(r) for r in self.db.execute(query, tuple(params)).fetchall()]
+        finally:
+            self.db.row_factory = None
+
+    def trace(self, task: str, trial: int) -> dict | None:
+        found = self.db.execute("SELECT trace FROM traces WHERE task = ? AND trial = ?", (task, trial)).fetchone()
+        return json.loads(found[0]) if found else None
