@@ -1,0 +1,231 @@
+"""`culinarycut bench report`: one stored run, or several side by side, as Markdown (report.md with its
+PNG files) and one self-contained HTML page (report.html: images and videos inlined).
+
+The report is built once as a list of blocks (headings, text, tables, images, videos) and written in
+both forms, so the two always say the same.
+"""
+from __future__ import annotations
+
+import base64
+import html
+from dataclasses import dataclass
+from pathlib import Path
+
+from culinarycut.bench import report_charts
+from culinarycut.bench.store import DATABASE_NAME, ResultStore
+from culinarycut.bench.tables import markdown_table, rate_cells, split_partial, success_by
+
+MAX_FORCE_PANELS = 12  # force-time overlays for at most this many tasks (the first ones)
+
+
+class ReportError(ValueError):
+    pass
+
+
+@dataclass
+class Run:
+    label: str
+    folder: Path
+    metadata: dict
+    rows: list[dict]
+    traces: list[tuple[str, dict]]
+
+
+@dataclass
+class Block:
+    kind: str              # heading, text, table, image, video
+    text: str = ""
+    header: list | None = None
+    rows: list | None = None
+    data: bytes = b""
+    name: str = ""         # image / video file name
+
+
+def load_run(folder: Path) -> Run:
+    if not (folder / DATABASE_NAME).is_file():
+        raise ReportError(f"{folder} holds no run ({DATABASE_NAME} is missing); give the --out folder of bench run")
+    with ResultStore(folder) as store:
+        rows = store.episodes()
+        traces = [(row["task"], store.trace(row["task"], row["trial"]) or {"time_s": [], "force_n": []})
+                  for row in rows]
+        metadata = store.metadata()
+    if not rows:
+        raise ReportError(f"{folder} holds no episodes yet")
+    versions = sorted({f"{r['server_version']} ({r['build_id'] or '?'})" for r in rows})
+    label = f"{metadata.get('policy', rows[0]['policy'])} @ {', '.join(versions)}"
+    return Run(label, folder, metadata, rows, traces)
+
+
+def _distinct_labels(runs: list[Run]) -> None:
+    labels = [r.label for r in runs]
+    for run in runs:
+        if labels.count(run.label) > 1:
+            run.label = f"{run.label} [{run.folder.name}]"
+
+
+def _cell(rows: list[dict], key) -> dict[str, list[str]]:
+    return {r.key: rate_cells(r)[1:4] for r in success_by(rows, key)}
+
+
+def _comparison(runs: list[Run], key, title: str, first_column: str) -> list[Block]:
+    """One table: a row per value of `key`, success / rate / interval for each run side by side."""
+    cells = [_cell(run.rows, key) for run in runs]
+    keys = list(dict.fromkeys(k for c in cells for k in c))
+    header = [first_column] + [f"{name} ({run.label})" if len(runs) > 1 else name
+                               for run in runs for name in ("success", "rate", "95 % CI")]
+    rows = [[k] + [v for c in cells for v in c.get(k, ["-", "-", "-"])] for k in keys]
+    return [Block("heading", title), Block("table", header=header, rows=rows)]
+
+
+def _split_blocks(runs: list[Run]) -> list[Block]:
+    blocks = [Block("heading", "Split cuts: partial success"),
+              Block("text", "Share of episodes in which exactly k of the required cuts lie within the position "
+                            "tolerance (the paper's partial-success table; full success needs all of them).")]
+    for run in runs:
+        table = split_partial(run.rows)
+        if not table:
+            continue
+        most = max(int(t["split"].split("/")[1]) for t in table)
+        header = ["food", "split", "episodes"] + [f"k = {k}" for k in range(most)]
+        rows = [[t["food"], t["split"], str(t["episodes"])] +
+                [f"{100 * t['share_with_k'][k]:.0f} %" if k in t["share_with_k"] else "" for k in range(most)]
+                for t in table]
+        if len(runs) > 1:
+            blocks.append(Block("text", run.label))
+        blocks.append(Block("table", header=header, rows=rows))
+    return blocks
+
+
+def _topology_blocks(runs: list[Run]) -> list[Block]:
+    def base_task(row):
+        return row["task"].replace("/topology-off", "")
+    blocks = [Block("heading", "Topology updates on and off")]
+    for run in runs:
+        on = _cell([r for r in run.rows if r["topology"]], base_task)
+        off = _cell([r for r in run.rows if not r["topology"]], base_task)
+        keys = list(dict.fromkeys(list(on) + list(off)))
+        rows = [[k] + on.get(k, ["-"] * 3)[:2] + off.get(k, ["-"] * 3)[:2] for k in keys]
+        if len(runs) > 1:
+            blocks.append(Block("text", run.label))
+        blocks.append(Block("table", header=["task", "on: success", "on: rate", "off: success", "off: rate"],
+                            rows=rows))
+    return blocks
+
+
+def _failure_blocks(runs: list[Run]) -> list[Block]:
+    blocks = [Block("heading", "First failure of each task")]
+    for run in runs:
+        first: dict[str, dict] = {}
+        for row in run.rows:  # ordered by task, trial
+            if row["outcome"] != "success" and row["task"] not in first:
+                first[row["task"]] = row
+        if not first:
+            blocks.append(Block("text", f"{run.label}: no failures."))
+            continue
+        rows = [[r["task"], str(r["trial"]), r["end_reason"], r["instruction"],
+                 (r["error"] or r["score_summary"] or "")[:160]] for r in first.values()]
+        blocks.append(Block("text", run.label))
+        blocks.append(Block("table", header=["task", "trial", "ended by", "instruction", "what happened"], rows=rows))
+        for row in first.values():
+            if row["video"] and (run.folder / row["video"]).is_file():
+                blocks.append(Block("video", f"{row['task']}, trial {row['trial']}",
+                                    data=(run.folder / row["video"]).read_bytes(),
+                                    name=Path(row["video"]).name))
+    return blocks
+
+
+def build_blocks(runs: list[Run]) -> list[Block]:
+    suites = sorted({run.rows[0]["suite"] for run in runs})
+    blocks = [Block("heading", f"Benchmark report: {', '.join(suites)}")]
+    summary_rows = []
+    for run in runs:
+        overall = success_by(run.rows, lambda _: "all")[0]
+        harness = sum(r["wall_s"] - r["env_wall_s"] - r["policy_wall_s"] for r in run.rows)
+        summary_rows.append([run.label, str(run.folder)] + rate_cells(overall)[1:] +
+                            [f"{sum(r['wall_s'] for r in run.rows) / len(run.rows):.1f}",
+                             f"{100 * harness / max(1e-9, sum(r['wall_s'] for r in run.rows)):.1f} %"])
+    blocks.append(Block("table", header=["run", "folder", "success", "rate", "95 % CI (Wilson)", "errors",
+                                         "wall s / episode", "harness share"], rows=summary_rows))
+    blocks += _comparison(runs, "task", "Success per task", "task")
+    for column, title in (("style", "Success per cut style"), ("state", "Success per cut state"),
+                          ("food", "Success per food"), ("language", "Success per language split")):
+        blocks += _comparison(runs, column, title, column)
+    if any(row["group_name"] for run in runs for row in run.rows):
+        blocks += _comparison(runs, "group_name", "Success per group", "group")
+    blocks.append(Block("image", "Success per food", data=report_charts.success_per_food(
+        [(run.label, run.rows) for run in runs]), name="success_per_food.png"))
+    ratio_foods = sorted({r["food"] for run in runs for r in run.rows if r["state"] == "ratio"})
+    for food in ratio_foods:
+        if len({r["ratio"] for run in runs for r in run.rows if r["state"] == "ratio" and r["food"] == food}) >= 3:
+            blocks.append(Block("image", f"Ratio cuts on {food}", data=report_charts.ratio_radar(
+                [(run.label, run.rows) for run in runs], food), name=f"ratio_radar_{food}.png"))
+    if any(r["state"] == "split" for run in runs for r in run.rows):
+        blocks += _split_blocks(runs)
+    if len({r["topology"] for run in runs for r in run.rows}) > 1:
+        blocks += _topology_blocks(runs)
+    tasks = list(dict.fromkeys(r["task"] for run in runs for r in run.rows))[:MAX_FORCE_PANELS]
+    blocks.append(Block("heading", "Knife force over time"))
+    blocks.append(Block("image", "Force at the wrist, every trial", data=report_charts.force_overlays(
+        [(run.label, report_charts.traces_by_task(run.traces)) for run in runs], tasks), name="force_time.png"))
+    blocks += _failure_blocks(runs)
+    errors = [[run.label, r["task"], str(r["trial"]), r["end_reason"], r["error"][:200]]
+              for run in runs for r in run.rows if r["outcome"] == "error"]
+    if errors:
+        blocks += [Block("heading", "Errors"), Block("table", header=["run", "task", "trial", "kind", "message"],
+                                                     rows=errors)]
+    return blocks
+
+
+def to_markdown(blocks: list[Block], files: Path) -> str:
+    parts = []
+    for block in blocks:
+        if block.kind == "heading":
+            parts.append(("# " if not parts else "## ") + block.text)
+        elif block.kind == "text":
+            parts.append(block.text)
+        elif block.kind == "table":
+            parts.append(markdown_table(block.header, block.rows))
+        else:
+            (files / block.name).write_bytes(block.data)
+            parts.append(f"![{block.text}]({files.name}/{block.name})")
+    return "\n\n".join(parts) + "\n"
+
+
+def to_html(blocks: list[Block]) -> str:
+    body = []
+    for block in blocks:
+        if block.kind == "heading":
+            tag = "h1" if not body else "h2"
+            body.append(f"<{tag}>{html.escape(block.text)}</{tag}>")
+        elif block.kind == "text":
+            body.append(f"<p>{html.escape(block.text)}</p>")
+        elif block.kind == "table":
+            head = "".join(f"<th>{html.escape(str(c))}</th>" for c in block.header)
+            rows = "".join("<tr>" + "".join(f"<td>{html.escape(str(c))}</td>" for c in row) + "</tr>"
+                           for row in block.rows)
+            body.append(f"<table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>")
+        else:
+            kind = "image/png" if block.kind == "image" else "image/gif"
+            source = f"data:{kind};base64,{base64.b64encode(block.data).decode()}"
+            body.append(f"<figure><img src=\"{source}\" alt=\"{html.escape(block.text)}\">"
+                        f"<figcaption>{html.escape(block.text)}</figcaption></figure>")
+    style = ("body{font-family:sans-serif;max-width:1200px;margin:2em auto;color:#222}"
+             "table{border-collapse:collapse;margin:1em 0;font-size:14px}"
+             "th,td{border:1px solid #ccc;padding:3px 8px;text-align:right}"
+             "td:first-child,th:first-child{text-align:left}img{max-width:100%}")
+    return (f"<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{html.escape(blocks[0].text)}</title>"
+            f"<style>{style}</style></head><body>{''.join(body)}</body></html>\n")
+
+
+def write_report(folders: list[Path], out: Path | None = None) -> list[Path]:
+    """Writes report.md (+ report_files/) and report.html into `out` (default: the first run's folder)."""
+    runs = [load_run(folder) for folder in folders]
+    _distinct_labels(runs)
+    out = out or folders[0]
+    files = out / "report_files"
+    files.mkdir(parents=True, exist_ok=True)
+    blocks = build_blocks(runs)
+    markdown, page = out / "report.md", out / "report.html"
+    markdown.write_text(to_markdown(blocks, files))
+    page.write_text(to_html(blocks))
+    return [markdown, page]

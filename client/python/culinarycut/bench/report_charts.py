@@ -1,0 +1,101 @@
+"""The report's charts as PNG bytes (matplotlib, headless): success per food, success per ratio (radar)
+and knife force over time, one colour per run."""
+from __future__ import annotations
+
+import io
+import math
+from collections import defaultdict
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402  (after choosing the headless backend)
+
+from culinarycut.bench.tables import success_by  # noqa: E402
+
+COLOURS = ("#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b")
+
+
+def _png(figure) -> bytes:
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", dpi=110, bbox_inches="tight")
+    plt.close(figure)
+    return buffer.getvalue()
+
+
+def success_per_food(runs: list[tuple[str, list[dict]]]) -> bytes:
+    """Grouped bars: success rate per food, one bar per run, with 95 % Wilson intervals."""
+    foods = sorted({row["food"] for _, rows in runs for row in rows})
+    figure, axes = plt.subplots(figsize=(max(5.0, 1.1 * len(foods) * max(1, len(runs))), 3.6))
+    width = 0.8 / len(runs)
+    for i, (label, rows) in enumerate(runs):
+        by_food = {r.key: r for r in success_by(rows, "food")}
+        xs, rates, low, high = [], [], [], []
+        for j, food in enumerate(foods):
+            if food not in by_food:
+                continue
+            rate = by_food[food]
+            lo, hi = rate.interval
+            xs.append(j + (i - (len(runs) - 1) / 2) * width)
+            rates.append(100 * rate.rate)
+            low.append(100 * (rate.rate - lo))
+            high.append(100 * (hi - rate.rate))
+        axes.bar(xs, rates, width, yerr=[low, high], capsize=3, label=label, color=COLOURS[i % len(COLOURS)])
+    axes.set_xticks(range(len(foods)), foods)
+    axes.set_ylabel("success (%)")
+    axes.set_ylim(0, 105)
+    axes.set_title("Success per food (95 % Wilson intervals)")
+    axes.legend(fontsize=8, loc="lower right")
+    axes.grid(axis="y", alpha=0.3)
+    return _png(figure)
+
+
+def ratio_radar(runs: list[tuple[str, list[dict]]], food: str) -> bytes:
+    """Success per cut ratio (both sides pooled) on one food, as the paper's radar charts."""
+    ratios = sorted({row["ratio"] for _, rows in runs for row in rows if row["state"] == "ratio" and row["food"] == food})
+    angles = [2 * math.pi * i / len(ratios) for i in range(len(ratios))]
+    figure = plt.figure(figsize=(4.2, 4.2))
+    axes = figure.add_subplot(projection="polar")
+    for i, (label, rows) in enumerate(runs):
+        chosen = [r for r in rows if r["state"] == "ratio" and r["food"] == food]
+        by_ratio = {r.key: r.rate for r in success_by(chosen, lambda row: f"{row['ratio']:g}")}
+        values = [100 * by_ratio.get(f"{ratio:g}", 0.0) for ratio in ratios]
+        axes.plot(angles + angles[:1], values + values[:1], color=COLOURS[i % len(COLOURS)], label=label)
+        axes.fill(angles + angles[:1], values + values[:1], color=COLOURS[i % len(COLOURS)], alpha=0.15)
+    axes.set_xticks(angles, [f"{r:g}" for r in ratios])
+    axes.set_ylim(0, 100)
+    axes.set_title(f"{food}: success (%) per ratio", pad=14)
+    axes.legend(fontsize=7, loc="lower left", bbox_to_anchor=(-0.15, -0.15))
+    return _png(figure)
+
+
+def force_overlays(runs: list[tuple[str, dict[str, list[dict]]]], tasks: list[str]) -> bytes:
+    """Knife force at the wrist over time, every trial of each task as a thin line, one colour per run."""
+    columns = min(3, len(tasks))
+    rows_count = math.ceil(len(tasks) / columns)
+    figure, axes = plt.subplots(rows_count, columns, figsize=(4.2 * columns, 2.6 * rows_count), squeeze=False)
+    for index, task in enumerate(tasks):
+        axis = axes[index // columns][index % columns]
+        for i, (label, traces_of_task) in enumerate(runs):
+            for k, trace in enumerate(traces_of_task.get(task, [])):
+                axis.plot(trace["time_s"], trace["force_n"], color=COLOURS[i % len(COLOURS)], lw=0.8, alpha=0.6,
+                          label=label if k == 0 else None)
+        axis.set_title(task, fontsize=8)
+        axis.set_xlabel("time (s)", fontsize=8)
+        axis.set_ylabel("force (N)", fontsize=8)
+        axis.tick_params(labelsize=7)
+        axis.grid(alpha=0.3)
+    for index in range(len(tasks), rows_count * columns):
+        axes[index // columns][index % columns].axis("off")
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    figure.tight_layout()
+    if handles:
+        figure.legend(handles, labels, fontsize=8, loc="upper center", ncol=len(handles), bbox_to_anchor=(0.5, 0.0))
+    return _png(figure)
+
+
+def traces_by_task(traces: list[tuple[str, dict]]) -> dict[str, list[dict]]:
+    grouped: dict[str, list[dict]] = defaultdict(list)
+    for task, trace in traces:
+        grouped[task].append(trace)
+    return grouped
