@@ -1,0 +1,163 @@
+"""`culinarycut bench`: list suites, run one against servers, report on stored runs."""
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+from culinarycut.bench.suite import SuiteError, available_suites, load_suite
+
+EXIT_USAGE = 2       # unknown suite, task field or policy; bad options
+EXIT_RUN_FAILED = 1  # servers down, run folder of another run, servers lost mid-run
+EXIT_INTERRUPTED = 130
+
+
+def _policy_options(pairs: list[str]) -> dict:
+    """key=value pairs; values are read as JSON where they parse (numbers, booleans), else as text."""
+    options = {}
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        if not sep or not key:
+            raise ValueError(f"--policy-option {pair!r}: use key=value")
+        try:
+            options[key] = json.loads(value)
+        except json.JSONDecodeError:
+            options[key] = value
+    return options
+
+
+def cmd_list(args) -> int:
+    for name in available_suites():
+        suite = load_suite(name)
+        print(f"{name:<20} {len(suite.tasks):4d} tasks {suite.episode_count:6d} episodes  {suite.description}")
+    return 0
+
+
+def cmd_show(args) -> int:
+    suite = load_suite(args.suite)
+    print(f"{suite.name}: {suite.description}\npolicy {suite.policy['name']}, {suite.episode_count} episodes")
+    for task in suite.tasks:
+        print(f"  {task.name:<48} {task.trials:3d} trials  {task.quality} {task.language} "
+              f"max {task.max_episode_steps} steps")
+    return 0
+
+
+def cmd_run(args) -> int:
+    from culinarycut.bench.runner import RunConfig, RunError, command_line, run_suite
+    from culinarycut.bench.store import ResultStore
+    from culinarycut.bench.tables import results_text
+    from culinarycut.policies.registry import UnknownPolicy
+    suite = load_suite(args.suite)
+    if args.trials:
+        suite = suite.with_trials(args.trials)
+    if args.tasks:
+        suite = suite.only_tasks(args.tasks)
+    policy = args.policy or suite.policy["name"]
+    options = suite.policy.get("options", {}) if args.policy in (None, suite.policy["name"]) else {}
+    options = {**options, **_policy_options(args.policy_option)}
+    out = Path(args.out or f"runs/{suite.name}-{policy.replace(':', '-')}")
+    config = RunConfig(suite=suite, servers=args.server, out=out, policy=policy, policy_options=options,
+                       workers=args.workers, scheduler=args.scheduler, record_failures=args.record_failures,
+                       allow_mixed_versions=args.allow_mixed_versions, act_timeout_s=args.act_timeout,
+                       progress=not args.no_progress, command_line=command_line(args.argv))
+    try:
+        summary = run_suite(config)
+    except (UnknownPolicy, ValueError) as err:
+        print(f"error: {err}", file=sys.stderr)
+        return EXIT_USAGE
+    except RunError as err:
+        print(f"error: {err}", file=sys.stderr)
+        return EXIT_RUN_FAILED
+    with ResultStore(out) as store:
+        rows = store.episodes()
+    print(results_text(rows, f"{suite.name} with {policy}: {len(rows)} of {summary.episodes} episodes in {out}"))
+    print(f"this run: {summary.ran} episodes in {summary.wall_s:.1f} s ({summary.already_done} were already stored)")
+    if summary.interrupted:
+        return EXIT_INTERRUPTED
+    return 0
+
+
+def cmd_report(args) -> int:
+    from culinarycut.bench.report import ReportError, write_report
+    try:
+        written = write_report([Path(d) for d in args.runs], Path(args.out) if args.out else None)
+    except ReportError as err:
+        print(f"error: {err}", file=sys.stderr)
+        return EXIT_USAGE
+    for path in written:
+        print(f"wrote {path}")
+    return 0
+
+
+def register(sub) -> None:
+    bench = sub.add_parser("bench", help="benchmark suites: list, show, run, report")
+    bench.set_defaults(func=run_command, timeout=30.0)
+    commands = bench.add_subparsers(dest="bench_command", required=True, metavar="{list,show,run,report}")
+    listing = commands.add_parser("list", help="the suites found under benchmarks/")
+    listing.set_defaults(bench_func=cmd_list)
+    show = commands.add_parser("show", help="a suite's tasks")
+    show.add_argument("suite", help="suite name or .toml path")
+    show.set_defaults(bench_func=cmd_show)
+
+    run = commands.add_parser("run", help="run a suite's missing episodes against one or more servers")
+    run.add_argument("suite", help="suite name (see `culinarycut bench list`) or .toml path")
+    run.add_argument("--policy", help="policy name (oracle, random, noop, an installed plugin's or module:Class); "
+                                      "default: the suite's")
+    run.add_argument("--policy-option", action="append", default=[], metavar="KEY=VALUE",
+                     help="an option for the policy's constructor (repeatable)")
+    run.add_argument("--server", action="append", metavar="HOST:PORT",
+                     help="a culinarycut-server (repeatable; default 127.0.0.1:50051)")
+    run.add_argument("--workers", type=int, default=2, help="episodes at once (default %(default)s)")
+    run.add_argument("--scheduler", help="a Dask scheduler, tcp://HOST:PORT (default: a local cluster)")
+    run.add_argument("--out", help="run folder: results.sqlite and videos (default runs/SUITE-POLICY); "
+                                   "an existing one is resumed")
+    run.add_argument("--trials", type=int, help="trials per task instead of the suite's (a quick look)")
+    run.add_argument("--tasks", metavar="PATTERN", help="only the tasks whose name matches this shell pattern, "
+                                                        "e.g. 'cucumber/*'")
+    run.add_argument("--record-failures", action="store_true", help="keep a short video of each failed episode")
+    run.add_argument("--allow-mixed-versions", action="store_true",
+                     help="let servers of different versions (or builds) add to one run")
+    run.add_argument("--act-timeout", type=float, default=60.0,
+                     help="s a policy may take for one action before the episode is a policy_error")
+    run.add_argument("--no-progress", action="store_true", help="no progress bar")
+    run.set_defaults(bench_func=cmd_run)
+
+    report = commands.add_parser("report", help="Markdown and HTML report of one run, or of several side by side")
+    report.add_argument("runs", nargs="+", help="run folders (from bench run --out)")
+    report.add_argument("--out", help="report folder (default: the first run's folder)")
+    report.set_defaults(bench_func=cmd_report)
+
+
+def validate_run_args(args) -> str | None:
+    """A message for bad run arguments, or None."""
+    if args.workers < 1:
+        return "--workers must be at least 1"
+    if args.trials is not None and args.trials < 1:
+        return "--trials must be at least 1"
+    if args.act_timeout <= 0:
+        return "--act-timeout must be positive"
+    if not args.server:
+        args.server = ["127.0.0.1:50051"]
+    return None
+
+
+def run_command(args) -> int:
+    """Entry for the bench commands: usage errors exit 2 with a message."""
+    if args.bench_command == "run":
+        problem = validate_run_args(args)
+        if problem:
+            print(f"error: {problem}", file=sys.stderr)
+            return EXIT_USAGE
+    try:
+        return args.bench_func(args)
+    except SuiteError as err:
+        print(f"error: {err}", file=sys.stderr)
+        return EXIT_USAGE
+    except ValueError as err:  # bad --policy-option
+        print(f"error: {err}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        return EXIT_INTERRUPTED
+
+
+__all__ = ["register", "run_command"]
