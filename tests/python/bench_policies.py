@@ -1,0 +1,28 @@
+"""Policies that misbehave, for the benchmark runner's tests (loaded as bench_policies:Class)."""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from culinarycut.policies import Policy
+
+
+class RaisingPolicy(Policy):
+    name = "raising"
+    control_mode = "pd_ee_delta_pose"
+
+    def act(self, observation):
+        if observation["agent"]["qpos"].size and getattr(self, "_steps", 0) >= 2:
+            raise RuntimeError("the model ran out of ideas")
+        self._steps = getattr(self, "_steps", 0) + 1
+        return self.control_mode, np.zeros(6)
+
+
+class SlowPolicy(Policy):
+    name = "slow"
+    control_mode = "pd_ee_delta_pose"
+
+    def act(self, observation):
+        time.sleep(5.0)
+        return self.control_mode, np.zeros(6)
