@@ -1,7 +1,6 @@
 #!/usr/bin/env bash
-# The main job: installs and builds, starts the server, runs a client session that moves the
-# Panda's knife through a scripted motion, then the scripted oracle (the default policy) on a
-# cutting instruction. Stops the server after.
+# The main job: installs and builds, starts a server, runs the smoke benchmark suite with the
+# scripted oracle (the default policy) and prints its results table. Stops the server after.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$root/scripts/install_deps.sh"
@@ -22,9 +21,6 @@ done
 [ -n "$address" ] || { echo "run_main: the server did not start within 10 s:"; cat "$log"; exit 1; }
 echo "run_main: server at $address (log: $log)"
 
-"$root/.venv/bin/culinarycut" demo --address "$address"
-echo "run_main: C++ client example:"
-"$root/build/client/cpp/drive_knife" "$address"
-echo "run_main: scripted oracle policy:"
-"$root/.venv/bin/culinarycut" oracle \
-  "cut the cucumber at 0.3 ratio from the left" --address "$address"
+out="$(mktemp -d -t culinarycut-smoke.XXXXXX)"
+"$root/.venv/bin/culinarycut" bench run smoke --policy oracle --server "$address" --workers 2 --out "$out/run"
+"$root/.venv/bin/culinarycut" bench report "$out/run"
