@@ -16,10 +16,12 @@ PACKAGES=(
   libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri libopencv-dev libassimp-dev
   # tests and benchmarks
   catch2 libbenchmark-dev
+  # the HTML benchmark report is checked in a real headless browser
+  chromium chromium-driver python3-selenium
   # Python client: Debian's packages, plus a project virtualenv for what Debian lacks (requirements/pypi.txt)
   python3 python3-venv python3-grpcio python3-grpc-tools python3-protobuf python3-numpy python3-zmq python3-pytest python3-opencv python3-jsonschema
   # plots in benchmarks, docs and examples
-  python3-matplotlib
+  python3-matplotlib python3-pil
 )
 
 SUDO=""

@@ -178,3 +178,65 @@ def test_the_report_tables_match_the_database_and_the_page_is_self_contained(smo
     page = (tmp_path / "report.html").read_text()
     assert page.count("data:image/png;base64,") >= 2
     assert not re.search(r"(src|href)=\"(?!data:)", page)  # nothing outside the file
+
+
+def test_the_html_report_renders_in_a_headless_browser(smoke_run, tmp_path):
+    """Every chart decodes and every table is there, as Chromium shows the page."""
+    from selenium import webdriver
+    bench("report", str(smoke_run), "--out", str(tmp_path))
+    options = webdriver.ChromeOptions()
+    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"):
+        options.add_argument(flag)
+    browser = webdriver.Chrome(options=options)
+    try:
+        browser.get((tmp_path / "report.html").as_uri())
+        images = browser.execute_script(
+            "return Array.from(document.images).map(i => [i.complete, i.naturalWidth, i.alt]);")
+        tables = browser.execute_script("return document.querySelectorAll('table').length;")
+        first_heading = browser.find_element("tag name", "h1").text
+    finally:
+        browser.quit()
+    assert len(images) >= 2 and all(done and width > 100 for done, width, _ in images), images
+    assert {alt for _, _, alt in images} >= {"Success per food", "Force at the wrist, every trial"}
+    assert tables >= 7 and first_heading == "Benchmark report: smoke"
+
+
+def test_episodes_go_to_an_existing_dask_cluster_whose_worker_is_bound_to_a_server(address, second_server, tmp_path):
+    """--scheduler: a user's own cluster; the worker's CULINARYCUT_SERVER decides where its episodes run."""
+    dask = Path(sys.executable).parent / "dask"
+    scheduler = subprocess.Popen([str(dask), "scheduler", "--host", "127.0.0.1", "--port", "0",
+                                  "--no-dashboard"], stderr=subprocess.PIPE, text=True)
+    worker = None
+    try:
+        scheduler_address = None
+        for line in scheduler.stderr:
+            found = re.search(r"Scheduler at:\s+(tcp://\S+)", line)
+            if found:
+                scheduler_address = found.group(1)
+                break
+        assert scheduler_address, "the Dask scheduler did not start"
+        worker = subprocess.Popen([str(dask), "worker", scheduler_address, "--nthreads", "1", "--no-dashboard"],
+                                  env={**os.environ, "CULINARYCUT_SERVER": second_server.address},
+                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        out = tmp_path / "remote"
+        bench("run", "smoke", "--tasks", "cucumber/normal/ratio-*", "--trials", "1", "--server", address,
+              "--scheduler", scheduler_address, "--out", str(out), "--no-progress")
+        (row,) = rows(out)
+        assert row["outcome"] == "success" and row["server"] == second_server.address
+    finally:
+        for process in (worker, scheduler):
+            if process is not None:
+                process.terminate()
+                process.wait(timeout=30)
+
+
+def test_ctrl_c_stops_the_run_and_says_how_to_resume(address, tmp_path):
+    out = tmp_path / "interrupted"
+    proc = subprocess.Popen([sys.executable, "-m", "culinarycut", "bench", "run", "smoke", "--trials", "1",
+                             "--server", address, "--workers", "1", "--out", str(out), "--no-progress"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    wait_for_rows(out, 1, proc)
+    proc.send_signal(signal.SIGINT)
+    _, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 130, stderr
+    assert re.search(r"stopped: \d of 4 episodes are stored in .*; resume with:\n  culinarycut bench run smoke", stderr)
