@@ -39,8 +39,15 @@ int main(int argc, char** argv) {
   app.add_option("--max-handler-threads", options.max_handler_threads, "gRPC threads serving calls at once")
       ->capture_default_str()
       ->check(CLI::Range(4, 4096));
+  app.add_option("--tls-cert", options.access.tls_cert_file, "PEM certificate chain: serve over TLS");
+  app.add_option("--tls-key", options.access.tls_key_file, "PEM private key of --tls-cert");
+  app.add_option("--tls-client-ca", options.access.tls_client_ca_file,
+                 "PEM CA bundle: clients must present a certificate it signed (mutual TLS)");
+  app.add_option("--token-file", options.access.token_file,
+                 "bearer tokens, one per line (\"name token\" or the token alone); every call must carry one "
+                 "(needs TLS); sessions belong to the token that created them");
   app.add_flag("--insecure", options.insecure,
-               "allow a non-loopback --listen without TLS or authentication (anyone who reaches it controls every "
+               "allow a non-loopback --listen without TLS and authentication (anyone who reaches it controls every "
                "session)");
   app.add_option("--robot-urdf", options.robot_urdf_path, "robot description (default: the shipped Panda with knife)");
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")

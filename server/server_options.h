@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <string>
 
+#include "server/access_control.h"
+
 namespace culinarycut::server {
 
 struct ServerOptions {
@@ -15,7 +17,8 @@ struct ServerOptions {
   std::string snapshot_key_file;                     // empty: a random key, snapshots stay with this process
   std::uint64_t memory_budget_mb = 0;                // all sessions together; 0: 3/4 of the machine's memory
   std::uint32_t max_handler_threads = 64;            // gRPC threads serving calls at once
-  // The server has no TLS or authentication yet: it listens on loopback (or a unix socket) unless
+  AccessOptions access;                              // TLS and bearer tokens; none by default
+  // Off loopback the server needs TLS and authentication (tokens or client certificates) unless
   // this is set, and then says loudly that anyone who reaches the port controls every session.
   bool insecure = false;
 };

@@ -43,7 +43,8 @@ SessionManager::~SessionManager() {
   reaper_.join();
 }
 
-std::shared_ptr<Session> SessionManager::Create(std::shared_ptr<const Model> model, std::string* refusal) {
+std::shared_ptr<Session> SessionManager::Create(std::shared_ptr<const Model> model, const std::string& owner,
+                                               std::string* refusal) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (sessions_.size() >= max_sessions_) {
     if (refusal) {
@@ -69,6 +70,7 @@ std::shared_ptr<Session> SessionManager::Create(std::shared_ptr<const Model> mod
     session->id = RandomSessionId();
   } while (sessions_.count(session->id) > 0);
   session->model = std::move(model);
+  session->owner = owner;
   session->Touch();
   sessions_[session->id] = session;
   return session;

@@ -25,6 +25,7 @@ namespace culinarycut::server {
 
 struct Session {
   std::string id;
+  std::string owner;  // the principal that created it (CallerPrincipal); others cannot find it
   std::shared_ptr<const Model> model;
   State state;
   // Set by Tasks.StartOracle; cleared by Reset and by a StartOracle that fails. RestoreSnapshot
@@ -67,7 +68,8 @@ class SessionManager {
 
   // Null, with the reason in `refusal` (naming the limit and what to lower), when the server
   // already holds max_sessions or the model's estimated memory would pass the budget.
-  std::shared_ptr<Session> Create(std::shared_ptr<const Model> model, std::string* refusal = nullptr);
+  std::shared_ptr<Session> Create(std::shared_ptr<const Model> model, const std::string& owner,
+                                  std::string* refusal = nullptr);
   // Null when no such session exists; marks the session as used now.
   std::shared_ptr<Session> Find(const std::string& id);
   bool Close(const std::string& id);

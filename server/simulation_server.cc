@@ -10,6 +10,7 @@
 #include <grpcpp/resource_quota.h>
 #include <spdlog/spdlog.h>
 
+#include "server/field_detail.h"
 #include "sim/world/model.h"
 
 namespace culinarycut::server {
@@ -49,11 +50,14 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   if (options.max_sessions == 0) throw std::runtime_error("--max-sessions must be at least 1");
   if (!(options.idle_timeout_s > 0)) throw std::runtime_error("--idle-timeout must be a positive number of seconds");
   CheckListenAddress(options.listen_address);
-  if (!options.insecure && !IsLoopbackOrUnix(options.listen_address)) {
+  const std::shared_ptr<grpc::ServerCredentials> credentials = MakeServerCredentials(options.access);
+  const bool protected_port = !options.access.tls_cert_file.empty() && Authenticates(options.access);
+  if (!options.insecure && !protected_port && !IsLoopbackOrUnix(options.listen_address)) {
     throw std::runtime_error("--listen " + options.listen_address +
-                             " is not a loopback address, and this server has no TLS or authentication yet: anyone "
-                             "who reaches it could drive or close every session. Listen on 127.0.0.1 (and tunnel, "
-                             "e.g. ssh -L), or pass --insecure to accept the risk");
+                             " is not a loopback address: off loopback the server needs TLS (--tls-cert, --tls-key) "
+                             "and authentication (--token-file or --tls-client-ca), else anyone who reaches it could "
+                             "drive or close every session. Listen on 127.0.0.1 (and tunnel, e.g. ssh -L), add them, "
+                             "or pass --insecure to accept the risk");
   }
   const std::string telemetry_host = options.telemetry_endpoint.rfind("tcp://", 0) == 0
                                          ? options.telemetry_endpoint.substr(6)
@@ -63,8 +67,8 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
                              " is not on loopback: telemetry names every session and is not encrypted. Bind it to "
                              "tcp://127.0.0.1:PORT, or pass --insecure to accept the risk");
   }
-  if (options.insecure && !IsLoopbackOrUnix(options.listen_address)) {
-    spdlog::warn("--insecure: listening on {} without TLS or authentication; anyone who reaches it controls every "
+  if (options.insecure && !protected_port && !IsLoopbackOrUnix(options.listen_address)) {
+    spdlog::warn("--insecure: listening on {} without TLS and authentication; anyone who reaches it controls every "
                  "session", options.listen_address);
   }
   const std::string urdf = options.robot_urdf_path.empty() ? DefaultRobotUrdfPath() : options.robot_urdf_path;
@@ -104,7 +108,10 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   quota.SetMaxThreads(static_cast<int>(options.max_handler_threads));
   builder.SetResourceQuota(quota);
   int bound_port = 0;
-  builder.AddListeningPort(options.listen_address, grpc::InsecureServerCredentials(), &bound_port);
+  builder.AddListeningPort(options.listen_address, credentials, &bound_port);
+  std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> interceptors;
+  interceptors.push_back(std::make_unique<FieldDetailInterceptorFactory>());
+  builder.experimental().SetInterceptorCreators(std::move(interceptors));
   builder.RegisterService(service_.get());
   builder.RegisterService(task_service_.get());
   server_ = builder.BuildAndStart();

@@ -4,6 +4,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "server/access_control.h"
 #include "server/status.h"
 #include "server/version.h"
 #include "server/wire/action.h"
@@ -36,7 +37,7 @@ double SimulatorService::ObserveToWire(Session& session, v1::FrameStamp* stamp, 
   return observation.render_wall_time_ms;
 }
 
-grpc::Status SimulatorService::GetServerInfo(grpc::ServerContext*, const v1::GetServerInfoRequest*, v1::ServerInfo* info) {
+grpc::Status SimulatorService::GetServerInfo(grpc::ServerContext* context, const v1::GetServerInfoRequest*, v1::ServerInfo* info) {
   info->set_version(kServerVersion);
   info->set_build_id(kBuildId);
   info->set_protocol("culinarycut.v1");
@@ -61,7 +62,7 @@ grpc::Status SimulatorService::GetServerInfo(grpc::ServerContext*, const v1::Get
   return grpc::Status::OK;
 }
 
-grpc::Status SimulatorService::CreateSession(grpc::ServerContext*, const v1::CreateSessionRequest* request,
+grpc::Status SimulatorService::CreateSession(grpc::ServerContext* context, const v1::CreateSessionRequest* request,
                                              v1::CreateSessionResponse* response) {
   return Guarded([&] {
     const std::shared_ptr<const Model> model = CompileModel(SceneFromWire(request->scene()), robot_);
@@ -75,7 +76,7 @@ grpc::Status SimulatorService::CreateSession(grpc::ServerContext*, const v1::Cre
       }
     }
     std::string refusal;
-    const std::shared_ptr<Session> session = sessions_->Create(model, &refusal);
+    const std::shared_ptr<Session> session = sessions_->Create(model, CallerPrincipal(*context), &refusal);
     if (!session) return MakeStatus(grpc::StatusCode::RESOURCE_EXHAUSTED, refusal);
     response->set_session_id(session->id);
     StampToWire(0, 0.0, response->mutable_stamp());
@@ -87,9 +88,9 @@ grpc::Status SimulatorService::CreateSession(grpc::ServerContext*, const v1::Cre
   });
 }
 
-grpc::Status SimulatorService::Reset(grpc::ServerContext*, const v1::ResetRequest* request, v1::ResetResponse* response) {
+grpc::Status SimulatorService::Reset(grpc::ServerContext* context, const v1::ResetRequest* request, v1::ResetResponse* response) {
   std::shared_ptr<Session> session;
-  if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
+  if (grpc::Status status = FindSession(sessions_, *context, request->session_id(), &session); !status.ok()) return status;
   SessionLock lock(*session);
   return Guarded([&] {
     const std::uint64_t seed = request->has_seed() ? request->seed().value() : session->model->config.seed;
@@ -105,7 +106,7 @@ grpc::Status SimulatorService::Reset(grpc::ServerContext*, const v1::ResetReques
 
 grpc::Status SimulatorService::Step(grpc::ServerContext* context, const v1::StepRequest* request, v1::StepResponse* response) {
   std::shared_ptr<Session> session;
-  if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
+  if (grpc::Status status = FindSession(sessions_, *context, request->session_id(), &session); !status.ok()) return status;
   SessionLock lock(*session);
   return Guarded([&] {
     const Action action = ActionFromWire(request->action());
@@ -145,9 +146,9 @@ grpc::Status SimulatorService::Step(grpc::ServerContext* context, const v1::Step
   });
 }
 
-grpc::Status SimulatorService::Observe(grpc::ServerContext*, const v1::ObserveRequest* request, v1::ObserveResponse* response) {
+grpc::Status SimulatorService::Observe(grpc::ServerContext* context, const v1::ObserveRequest* request, v1::ObserveResponse* response) {
   std::shared_ptr<Session> session;
-  if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
+  if (grpc::Status status = FindSession(sessions_, *context, request->session_id(), &session); !status.ok()) return status;
   SessionLock lock(*session);
   if (!session->state.has_been_reset()) return NotReset(*session);
   if (session->broken()) return Broken(*session);
@@ -157,10 +158,10 @@ grpc::Status SimulatorService::Observe(grpc::ServerContext*, const v1::ObserveRe
   });
 }
 
-grpc::Status SimulatorService::CloseSession(grpc::ServerContext*, const v1::CloseSessionRequest* request,
+grpc::Status SimulatorService::CloseSession(grpc::ServerContext* context, const v1::CloseSessionRequest* request,
                                             v1::CloseSessionResponse* response) {
   std::shared_ptr<Session> session;
-  if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
+  if (grpc::Status status = FindSession(sessions_, *context, request->session_id(), &session); !status.ok()) return status;
   {
     SessionLock lock(*session);  // let a call in flight finish first
     StampToWire(session->state.frame_id, session->state.sim_time_s, response->mutable_stamp());
@@ -170,10 +171,10 @@ grpc::Status SimulatorService::CloseSession(grpc::ServerContext*, const v1::Clos
   return grpc::Status::OK;
 }
 
-grpc::Status SimulatorService::SaveSnapshot(grpc::ServerContext*, const v1::SaveSnapshotRequest* request,
+grpc::Status SimulatorService::SaveSnapshot(grpc::ServerContext* context, const v1::SaveSnapshotRequest* request,
                                             v1::SaveSnapshotResponse* response) {
   std::shared_ptr<Session> session;
-  if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
+  if (grpc::Status status = FindSession(sessions_, *context, request->session_id(), &session); !status.ok()) return status;
   SessionLock lock(*session);
   if (!session->state.has_been_reset()) return NotReset(*session);
   if (session->broken()) return Broken(*session);
@@ -184,10 +185,10 @@ grpc::Status SimulatorService::SaveSnapshot(grpc::ServerContext*, const v1::Save
   });
 }
 
-grpc::Status SimulatorService::RestoreSnapshot(grpc::ServerContext*, const v1::RestoreSnapshotRequest* request,
+grpc::Status SimulatorService::RestoreSnapshot(grpc::ServerContext* context, const v1::RestoreSnapshotRequest* request,
                                                v1::RestoreSnapshotResponse* response) {
   std::shared_ptr<Session> session;
-  if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
+  if (grpc::Status status = FindSession(sessions_, *context, request->session_id(), &session); !status.ok()) return status;
   SessionLock lock(*session);
   return Guarded([&] {
     culinarycut::RestoreSnapshot(*session->model, seal_.Open(request->snapshot()), &session->state);
@@ -197,10 +198,10 @@ grpc::Status SimulatorService::RestoreSnapshot(grpc::ServerContext*, const v1::R
   });
 }
 
-grpc::Status SimulatorService::GetSessionStats(grpc::ServerContext*, const v1::GetSessionStatsRequest* request,
+grpc::Status SimulatorService::GetSessionStats(grpc::ServerContext* context, const v1::GetSessionStatsRequest* request,
                                                v1::SessionStats* response) {
   std::shared_ptr<Session> session;
-  if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) return status;
+  if (grpc::Status status = FindSession(sessions_, *context, request->session_id(), &session); !status.ok()) return status;
   SessionLock lock(*session);
   SessionStatsToWire(*session->model, session->state, session->timers, response);
   return grpc::Status::OK;

@@ -1,5 +1,7 @@
 #include "server/status.h"
 
+#include "server/access_control.h"
+
 #include <chrono>
 #include <cstdio>
 
@@ -55,10 +57,11 @@ grpc::Status NotApplied(const grpc::ServerContext& context) {
                           " before the step finished; nothing of it was applied");
 }
 
-grpc::Status FindSession(SessionManager* sessions, const std::string& session_id,
+grpc::Status FindSession(SessionManager* sessions, const grpc::ServerContext& context, const std::string& session_id,
                          std::shared_ptr<Session>* session) {
   if (session_id.empty()) return InvalidArgument("session_id is empty; pass the id CreateSession returned");
   *session = sessions->Find(session_id);
+  if (*session && (*session)->owner != CallerPrincipal(context)) session->reset();
   if (!*session) {
     return MakeStatus(grpc::StatusCode::NOT_FOUND,
                         "no session '" + session_id.substr(0, 64) + (session_id.size() > 64 ? "...'" : "'") +

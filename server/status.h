@@ -39,8 +39,9 @@ bool CallAbandoned(const grpc::ServerContext& context);
 // DEADLINE_EXCEEDED or CANCELLED for a call abandoned before its work was applied.
 grpc::Status NotApplied(const grpc::ServerContext& context);
 
-// INVALID_ARGUMENT for an empty id, NOT_FOUND when the id names no live session.
-grpc::Status FindSession(SessionManager* sessions, const std::string& session_id,
+// INVALID_ARGUMENT for an empty id, NOT_FOUND when the id names no live session of the caller's
+// (another principal's session is answered as if it did not exist).
+grpc::Status FindSession(SessionManager* sessions, const grpc::ServerContext& context, const std::string& session_id,
                          std::shared_ptr<Session>* session);
 
 // The status of the exception being handled (call inside a catch block): the wire's FieldError,

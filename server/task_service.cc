@@ -65,7 +65,7 @@ task::CutSpec SpecFromRequest(const Request& request) {
 
 TaskService::TaskService(SessionManager* sessions) : sessions_(sessions) {}
 
-grpc::Status TaskService::ParseInstruction(grpc::ServerContext*,
+grpc::Status TaskService::ParseInstruction(grpc::ServerContext* context,
                                            const v1::ParseInstructionRequest* request,
                                            v1::ParseInstructionResponse* response) {
   return RunTask([&] {
@@ -76,7 +76,7 @@ grpc::Status TaskService::ParseInstruction(grpc::ServerContext*,
   });
 }
 
-grpc::Status TaskService::GenerateInstructions(grpc::ServerContext*,
+grpc::Status TaskService::GenerateInstructions(grpc::ServerContext* context,
                                                const v1::GenerateInstructionsRequest* request,
                                                v1::GenerateInstructionsResponse* response) {
   return RunTask([&] {
@@ -93,7 +93,7 @@ grpc::Status TaskService::GenerateInstructions(grpc::ServerContext*,
   });
 }
 
-grpc::Status TaskService::PlanCut(grpc::ServerContext*, const v1::PlanCutRequest* request,
+grpc::Status TaskService::PlanCut(grpc::ServerContext* context, const v1::PlanCutRequest* request,
                                   v1::PlanCutResponse* response) {
   return RunTask([&] {
     const task::CutSpec spec = SpecFromRequest(*request);
@@ -110,7 +110,7 @@ grpc::Status TaskService::PlanCut(grpc::ServerContext*, const v1::PlanCutRequest
   });
 }
 
-grpc::Status TaskService::ScoreCuts(grpc::ServerContext*, const v1::ScoreCutsRequest* request,
+grpc::Status TaskService::ScoreCuts(grpc::ServerContext* context, const v1::ScoreCutsRequest* request,
                                     v1::ScoreCutsResponse* response) {
   return RunTask([&] {
     const task::CutSpec spec = CutSpecFromWire(request->spec(), "spec");
@@ -125,10 +125,10 @@ grpc::Status TaskService::ScoreCuts(grpc::ServerContext*, const v1::ScoreCutsReq
   });
 }
 
-grpc::Status TaskService::StartOracle(grpc::ServerContext*, const v1::StartOracleRequest* request,
+grpc::Status TaskService::StartOracle(grpc::ServerContext* context, const v1::StartOracleRequest* request,
                                       v1::StartOracleResponse* response) {
   std::shared_ptr<Session> session;
-  if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) {
+  if (grpc::Status status = FindSession(sessions_, *context, request->session_id(), &session); !status.ok()) {
     return status;
   }
   SessionLock lock(*session);
@@ -170,10 +170,10 @@ grpc::Status TaskService::StartOracle(grpc::ServerContext*, const v1::StartOracl
   });
 }
 
-grpc::Status TaskService::OracleAction(grpc::ServerContext*, const v1::OracleActionRequest* request,
+grpc::Status TaskService::OracleAction(grpc::ServerContext* context, const v1::OracleActionRequest* request,
                                        v1::OracleActionResponse* response) {
   std::shared_ptr<Session> session;
-  if (grpc::Status status = FindSession(sessions_, request->session_id(), &session); !status.ok()) {
+  if (grpc::Status status = FindSession(sessions_, *context, request->session_id(), &session); !status.ok()) {
     return status;
   }
   SessionLock lock(*session);

@@ -11,23 +11,23 @@ using namespace culinarycut::server;
 TEST_CASE("the session manager caps sessions and finds them by id", "[sessions]") {
   SessionManager sessions(2, std::chrono::seconds(60));
   const auto model = testing::DefaultModel();
-  const auto a = sessions.Create(model);
-  const auto b = sessions.Create(model);
+  const auto a = sessions.Create(model, "");
+  const auto b = sessions.Create(model, "");
   REQUIRE(a);
   REQUIRE(b);
   CHECK(a->id != b->id);
-  CHECK_FALSE(sessions.Create(model));
+  CHECK_FALSE(sessions.Create(model, ""));
   CHECK(sessions.Find(a->id) == a);
   CHECK(sessions.Close(a->id));
   CHECK_FALSE(sessions.Find(a->id));
-  CHECK(sessions.Create(model));
+  CHECK(sessions.Create(model, ""));
 }
 
 TEST_CASE("idle sessions are reaped, used ones are kept", "[sessions]") {
   SessionManager sessions(4, std::chrono::seconds(10));
   const auto model = testing::DefaultModel();
-  const auto idle = sessions.Create(model);
-  const auto busy = sessions.Create(model);
+  const auto idle = sessions.Create(model, "");
+  const auto busy = sessions.Create(model, "");
   const auto later = std::chrono::steady_clock::now() + std::chrono::seconds(11);
   busy->last_used = later.time_since_epoch().count();  // as if called just before `later`
   const std::vector<std::string> reaped = sessions.ReapIdle(later);
@@ -39,7 +39,7 @@ TEST_CASE("idle sessions are reaped, used ones are kept", "[sessions]") {
 TEST_CASE("a session inside a call is never reaped, however long the call", "[sessions]") {
   SessionManager sessions(4, std::chrono::seconds(10));
   const auto model = testing::DefaultModel();
-  const auto stepping = sessions.Create(model);
+  const auto stepping = sessions.Create(model, "");
   const auto later = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   {
     SessionLock call(*stepping);  // a Step in flight for a minute
@@ -55,7 +55,7 @@ TEST_CASE("session ids carry 128 random bits", "[sessions]") {
   const auto model = testing::DefaultModel();
   std::set<std::string> ids;
   for (int i = 0; i < 64; ++i) {
-    const auto session = sessions.Create(model);
+    const auto session = sessions.Create(model, "");
     REQUIRE(session);
     CHECK(session->id.size() == 2 + 32);
     CHECK(session->id.rfind("s-", 0) == 0);

@@ -1,6 +1,7 @@
 """Low-level synchronous client for the culinarycut.v1.Simulator gRPC service (and Tasks, as .tasks)."""
 from __future__ import annotations
 
+import os
 from typing import Any, Mapping, Sequence
 
 import grpc
@@ -141,14 +142,49 @@ def step_timings_to_dict(info: simulator_pb2.StepInfo) -> dict[str, float]:
     }
 
 
-class Client:
-    """One insecure channel to a CulinaryCut server; every call raises a CulinaryCutError on failure."""
+def _read_pem(path: str | None, what: str) -> bytes | None:
+    if not path:
+        return None
+    try:
+        with open(path, "rb") as file:
+            return file.read()
+    except OSError as err:
+        raise ValueError(f"{what} {path}: {err.strerror}") from None
 
-    def __init__(self, address: str = "127.0.0.1:50051", timeout_s: float = 30.0):
+
+def _channel(address: str, tls_ca: str | None, tls_cert: str | None, tls_key: str | None,
+             token: str | None) -> grpc.Channel:
+    options = [("grpc.max_receive_message_length", MAX_MESSAGE_BYTES)]
+    if not (tls_ca or tls_cert or token):
+        return grpc.insecure_channel(address, options=options)
+    if bool(tls_cert) != bool(tls_key):
+        raise ValueError("a client certificate needs both tls_cert and tls_key")
+    credentials = grpc.ssl_channel_credentials(root_certificates=_read_pem(tls_ca, "tls_ca"),
+                                               private_key=_read_pem(tls_key, "tls_key"),
+                                               certificate_chain=_read_pem(tls_cert, "tls_cert"))
+    if token:  # gRPC sends it as "authorization: Bearer <token>" on every call, over TLS only
+        credentials = grpc.composite_channel_credentials(credentials, grpc.access_token_call_credentials(token))
+    return grpc.secure_channel(address, credentials, options=options)
+
+
+class Client:
+    """One channel to a CulinaryCut server; every call raises a CulinaryCutError on failure.
+
+    Plaintext by default (a server on loopback). For a server started with --tls-cert and --token-file:
+    `tls_ca` (PEM file of the CA that signed its certificate; None: the system's roots) and `token`;
+    `tls_cert` and `tls_key` for a server that asks for client certificates. Unset, they come from
+    CULINARYCUT_TLS_CA, CULINARYCUT_TOKEN, CULINARYCUT_TLS_CERT and CULINARYCUT_TLS_KEY.
+    """
+
+    def __init__(self, address: str = "127.0.0.1:50051", timeout_s: float = 30.0, *, tls_ca: str | None = None,
+                 token: str | None = None, tls_cert: str | None = None, tls_key: str | None = None):
         self.address = address
         self.timeout_s = timeout_s
-        self._channel = grpc.insecure_channel(address, options=[
-            ("grpc.max_receive_message_length", MAX_MESSAGE_BYTES)])
+        environ = os.environ
+        self._channel = _channel(address, tls_ca or environ.get("CULINARYCUT_TLS_CA"),
+                                 tls_cert or environ.get("CULINARYCUT_TLS_CERT"),
+                                 tls_key or environ.get("CULINARYCUT_TLS_KEY"),
+                                 token or environ.get("CULINARYCUT_TOKEN"))
         self._stub = simulator_pb2_grpc.SimulatorStub(self._channel)
         self.tasks = TaskClient(self._channel, timeout_s)  # the Tasks service on the same channel
 

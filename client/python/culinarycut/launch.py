@@ -14,7 +14,7 @@ from pathlib import Path
 SERVER_NAME = "culinarycut-server"
 # Where the package sits when it runs from a CulinaryCut checkout (an editable install).
 CHECKOUT_ROOT = Path(__file__).resolve().parents[3]
-_LISTEN_RE = re.compile(r"listening on (127\.0\.0\.1:\d+)")
+_LISTEN_RE = re.compile(r"listening on (\S+:\d+)")
 _TELEMETRY_RE = re.compile(r"telemetry on (tcp://127\.0\.0\.1:\d+)")
 
 
@@ -33,13 +33,13 @@ class ServerProcess:
     """A running server; `address` is host:port for gRPC, `telemetry` the ZeroMQ PUB endpoint."""
 
     def __init__(self, binary: Path | str | None = None, max_sessions: int = 8, idle_timeout_s: float = 60,
-                 extra_args: list[str] | None = None, startup_timeout_s: float = 30.0):
+                 extra_args: list[str] | None = None, startup_timeout_s: float = 30.0, listen: str = "127.0.0.1:0"):
         self.binary = Path(binary) if binary else server_binary()
         if not (self.binary.is_file() and os.access(self.binary, os.X_OK)):
             raise FileNotFoundError(
                 f"culinarycut-server binary not found or not executable at {self.binary}; "
                 "build it with scripts/build.sh or set CULINARYCUT_SERVER to its path")
-        self.args = [str(self.binary), "--listen", "127.0.0.1:0", "--telemetry", "tcp://127.0.0.1:0",
+        self.args = [str(self.binary), "--listen", listen, "--telemetry", "tcp://127.0.0.1:0",
                      "--max-sessions", str(max_sessions), "--idle-timeout", f"{idle_timeout_s:g}",
                      *(extra_args or [])]
         self.lines: list[str] = []  # everything the server printed (stdout and stderr interleaved)
