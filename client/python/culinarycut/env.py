@@ -130,7 +130,7 @@ class CulinaryCutEnv(Env):
             # The server decides; we only add what the client knows about the expected shape.
             expected = int(np.prod(self.action_space.shape))
             if values.size != expected:
-                raise InvalidArgument(f"{err.details} (client: action has {values.size} values, "
+                raise InvalidArgument(field=err.field, details=f"{err.details} (client: action has {values.size} values, "
                                       f"{self.control_mode} expects shape {self.action_space.shape})") from None
             raise
         self.last_step_timings = step_timings_to_dict(response.info)

@@ -5,14 +5,16 @@ import grpc
 
 
 class CulinaryCutError(Exception):
-    """A failed RPC: `.code` is the grpc.StatusCode, `.details` the server's message."""
+    """A failed RPC: `.code` is the grpc.StatusCode, `.details` the server's message and, for bad input,
+    `.field` the path of the field at fault (e.g. "scene.objects[0].scale"; "" when none is named)."""
 
     code: grpc.StatusCode = grpc.StatusCode.UNKNOWN
 
-    def __init__(self, details: str = "", code: grpc.StatusCode | None = None):
+    def __init__(self, details: str = "", code: grpc.StatusCode | None = None, field: str = ""):
         if code is not None:
             self.code = code
         self.details = details
+        self.field = field
         super().__init__(f"{self.code.name}: {details}")
 
 
@@ -42,6 +44,12 @@ class Unavailable(CulinaryCutError):
     code = grpc.StatusCode.UNAVAILABLE
 
 
+class Unauthenticated(CulinaryCutError):
+    """The server wants a bearer token (or another one): pass Client(token=...) or set CULINARYCUT_TOKEN."""
+
+    code = grpc.StatusCode.UNAUTHENTICATED
+
+
 class DeadlineExceeded(CulinaryCutError):
     code = grpc.StatusCode.DEADLINE_EXCEEDED
 
@@ -55,21 +63,27 @@ class Internal(CulinaryCutError):
 _BY_CODE = {
     cls.code: cls
     for cls in (InvalidArgument, NotFound, FailedPrecondition, ResourceExhausted, Unimplemented,
-                Unavailable, DeadlineExceeded, Internal)
+                Unavailable, Unauthenticated, DeadlineExceeded, Internal)
 }
+
+
+# The trailing metadata in which the server names the field of an INVALID_ARGUMENT (a structured detail).
+FIELD_METADATA_KEY = "culinarycut-field"
 
 
 def from_rpc_error(err: grpc.RpcError) -> CulinaryCutError:
     """Map a grpc.RpcError (a grpc.Call) to the matching CulinaryCutError subclass."""
     code = err.code() if hasattr(err, "code") else grpc.StatusCode.UNKNOWN
     details = (err.details() if hasattr(err, "details") else None) or str(err)
+    trailers = err.trailing_metadata() if hasattr(err, "trailing_metadata") else None
+    field = next((value for key, value in (trailers or ()) if key == FIELD_METADATA_KEY), "")
     cls = _BY_CODE.get(code)
     if cls is None:
-        return CulinaryCutError(details, code=code)
-    return cls(details)
+        return CulinaryCutError(details, code=code, field=field)
+    return cls(details, field=field)
 
 
 __all__ = [
     "CulinaryCutError", "InvalidArgument", "NotFound", "FailedPrecondition", "ResourceExhausted",
-    "Unimplemented", "Unavailable", "DeadlineExceeded", "from_rpc_error",
+    "Unimplemented", "Unavailable", "Unauthenticated", "DeadlineExceeded", "Internal", "from_rpc_error",
 ]
