@@ -1,8 +1,10 @@
-# Sourced by test scripts: start_server BINARY LOG starts a culinarycut-server on a free loopback port,
-# waits for it to print its address, and sets SERVER_PID and SERVER_ADDRESS (returns 1 if it does not start).
+# Sourced by test scripts: start_server BINARY LOG [SERVER ARGS...] starts a culinarycut-server on a free
+# loopback port, waits for it to print its address, and sets SERVER_PID and SERVER_ADDRESS (returns 1 if it
+# does not start).
 start_server() {
   local binary=$1 log=$2
-  "$binary" --listen 127.0.0.1:0 --telemetry "" > "$log" 2>&1 &
+  shift 2
+  "$binary" --listen 127.0.0.1:0 --telemetry "" "$@" > "$log" 2>&1 &
   SERVER_PID=$!
   SERVER_ADDRESS=""
   for _ in $(seq 100); do

@@ -3,34 +3,56 @@
 namespace culinarycut::client {
 namespace {
 
-void Check(const char* method, const grpc::Status& status) {
-  if (!status.ok()) throw RpcError(method, status);
+constexpr char kFieldMetadataKey[] = "culinarycut-field";  // the server's structured field detail
+
+// Runs one RPC with a fresh context; on failure throws RpcError with the server's field detail.
+template <typename Rpc>
+void Call(const char* method, const Connection& connection, Rpc rpc) {
+  const std::unique_ptr<grpc::ClientContext> context = connection.MakeContext();
+  const grpc::Status status = rpc(context.get());
+  if (status.ok()) return;
+  const auto& trailers = context->GetServerTrailingMetadata();
+  const auto field = trailers.find(kFieldMetadataKey);
+  throw RpcError(method, status,
+                 field == trailers.end() ? std::string() : std::string(field->second.data(), field->second.size()));
 }
 
 }  // namespace
 
-RpcError::RpcError(const std::string& method, const grpc::Status& status)
+RpcError::RpcError(const std::string& method, const grpc::Status& status, std::string field)
     : std::runtime_error(method + " failed (gRPC code " + std::to_string(status.error_code()) + "): " +
                          status.error_message()),
       code_(status.error_code()),
-      details_(status.error_message()) {}
+      details_(status.error_message()),
+      field_(std::move(field)) {}
 
 namespace {
 
 // Replies with camera images exceed gRPC's default 4 MB (three 640x480 RGB-D-segmentation views are 10 MB).
-std::shared_ptr<grpc::Channel> MakeChannel(const std::string& address) {
+std::shared_ptr<grpc::Channel> MakeChannel(const std::string& address, const ConnectionOptions& options) {
   grpc::ChannelArguments arguments;
   arguments.SetMaxReceiveMessageSize(512 * 1024 * 1024);
-  return grpc::CreateCustomChannel(address, grpc::InsecureChannelCredentials(), arguments);
+  const bool tls = options.tls || !options.tls_root_certs_pem.empty() || !options.tls_client_cert_pem.empty() ||
+                   !options.token.empty();
+  if (!tls) return grpc::CreateCustomChannel(address, grpc::InsecureChannelCredentials(), arguments);
+  grpc::SslCredentialsOptions ssl;
+  ssl.pem_root_certs = options.tls_root_certs_pem;
+  ssl.pem_cert_chain = options.tls_client_cert_pem;
+  ssl.pem_private_key = options.tls_client_key_pem;
+  std::shared_ptr<grpc::ChannelCredentials> credentials = grpc::SslCredentials(ssl);
+  if (!options.token.empty()) {  // "authorization: Bearer <token>" on every call
+    credentials = grpc::CompositeChannelCredentials(credentials, grpc::AccessTokenCredentials(options.token));
+  }
+  return grpc::CreateCustomChannel(address, credentials, arguments);
 }
 
 }  // namespace
 
-Connection::Connection(const std::string& address, std::chrono::milliseconds call_timeout)
-    : channel_(MakeChannel(address)),
+Connection::Connection(const std::string& address, const ConnectionOptions& options)
+    : channel_(MakeChannel(address, options)),
       simulator_(v1::Simulator::NewStub(channel_)),
       tasks_(v1::Tasks::NewStub(channel_)),
-      call_timeout_(call_timeout) {}
+      call_timeout_(options.call_timeout) {}
 
 std::unique_ptr<grpc::ClientContext> Connection::MakeContext() const {
   auto context = std::make_unique<grpc::ClientContext>();
@@ -39,7 +61,10 @@ std::unique_ptr<grpc::ClientContext> Connection::MakeContext() const {
 }
 
 Client::Client(const std::string& address, std::chrono::milliseconds call_timeout)
-    : connection_(std::make_shared<Connection>(address, call_timeout)) {}
+    : Client(address, ConnectionOptions{call_timeout}) {}
+
+Client::Client(const std::string& address, const ConnectionOptions& options)
+    : connection_(std::make_shared<Connection>(address, options)) {}
 
 bool Client::WaitForServer(std::chrono::milliseconds timeout) {
   return connection_->channel().WaitForConnected(std::chrono::system_clock::now() + timeout);
@@ -47,7 +72,9 @@ bool Client::WaitForServer(std::chrono::milliseconds timeout) {
 
 v1::ServerInfo Client::GetServerInfo() {
   v1::ServerInfo info;
-  Check("GetServerInfo", stub().GetServerInfo(MakeContext().get(), v1::GetServerInfoRequest(), &info));
+  Call("GetServerInfo", *connection_, [&](grpc::ClientContext* context) {
+    return stub().GetServerInfo(context, v1::GetServerInfoRequest(), &info);
+  });
   return info;
 }
 
@@ -55,7 +82,9 @@ std::unique_ptr<Session> Client::CreateSession(const v1::SceneSpec& scene) {
   v1::CreateSessionRequest request;
   *request.mutable_scene() = scene;
   v1::CreateSessionResponse response;
-  Check("CreateSession", stub().CreateSession(MakeContext().get(), request, &response));
+  Call("CreateSession", *connection_, [&](grpc::ClientContext* context) {
+    return stub().CreateSession(context, request, &response);
+  });
   return std::make_unique<Session>(connection_, std::move(response));
 }
 
@@ -63,25 +92,33 @@ v1::ParseInstructionResponse Client::ParseInstruction(const std::string& instruc
   v1::ParseInstructionRequest request;
   request.set_instruction(instruction);
   v1::ParseInstructionResponse response;
-  Check("ParseInstruction", tasks_stub().ParseInstruction(MakeContext().get(), request, &response));
+  Call("ParseInstruction", *connection_, [&](grpc::ClientContext* context) {
+    return tasks_stub().ParseInstruction(context, request, &response);
+  });
   return response;
 }
 
 std::vector<std::string> Client::GenerateInstructions(const v1::GenerateInstructionsRequest& request) {
   v1::GenerateInstructionsResponse response;
-  Check("GenerateInstructions", tasks_stub().GenerateInstructions(MakeContext().get(), request, &response));
+  Call("GenerateInstructions", *connection_, [&](grpc::ClientContext* context) {
+    return tasks_stub().GenerateInstructions(context, request, &response);
+  });
   return {response.instructions().begin(), response.instructions().end()};
 }
 
 v1::CutPlan Client::PlanCut(const v1::PlanCutRequest& request) {
   v1::PlanCutResponse response;
-  Check("PlanCut", tasks_stub().PlanCut(MakeContext().get(), request, &response));
+  Call("PlanCut", *connection_, [&](grpc::ClientContext* context) {
+    return tasks_stub().PlanCut(context, request, &response);
+  });
   return response.plan();
 }
 
 v1::TaskScore Client::ScoreCuts(const v1::ScoreCutsRequest& request) {
   v1::ScoreCutsResponse response;
-  Check("ScoreCuts", tasks_stub().ScoreCuts(MakeContext().get(), request, &response));
+  Call("ScoreCuts", *connection_, [&](grpc::ClientContext* context) {
+    return tasks_stub().ScoreCuts(context, request, &response);
+  });
   return response.score();
 }
 
@@ -102,7 +139,9 @@ Observation Session::Reset(std::optional<std::uint64_t> seed, const std::vector<
   if (seed) request.mutable_seed()->set_value(*seed);
   request.mutable_initial_qpos()->Assign(initial_qpos.begin(), initial_qpos.end());
   v1::ResetResponse response;
-  Check("Reset", connection_->simulator().Reset(connection_->MakeContext().get(), request, &response));
+  Call("Reset", *connection_, [&](grpc::ClientContext* context) {
+    return connection_->simulator().Reset(context, request, &response);
+  });
   return FromWire(response.stamp(), response.observation());
 }
 
@@ -112,7 +151,9 @@ StepResult Session::Step(const std::string& control_mode, const std::vector<doub
   request.mutable_action()->set_control_mode(control_mode);
   request.mutable_action()->mutable_values()->Assign(values.begin(), values.end());
   v1::StepResponse response;
-  Check("Step", connection_->simulator().Step(connection_->MakeContext().get(), request, &response));
+  Call("Step", *connection_, [&](grpc::ClientContext* context) {
+    return connection_->simulator().Step(context, request, &response);
+  });
   StepResult result;
   result.observation = FromWire(response.stamp(), response.observation());
   result.reward = response.reward();
@@ -130,7 +171,9 @@ Observation Session::Observe() {
   v1::ObserveRequest request;
   request.set_session_id(id());
   v1::ObserveResponse response;
-  Check("Observe", connection_->simulator().Observe(connection_->MakeContext().get(), request, &response));
+  Call("Observe", *connection_, [&](grpc::ClientContext* context) {
+    return connection_->simulator().Observe(context, request, &response);
+  });
   return FromWire(response.stamp(), response.observation());
 }
 
@@ -138,7 +181,9 @@ std::string Session::SaveSnapshot() {
   v1::SaveSnapshotRequest request;
   request.set_session_id(id());
   v1::SaveSnapshotResponse response;
-  Check("SaveSnapshot", connection_->simulator().SaveSnapshot(connection_->MakeContext().get(), request, &response));
+  Call("SaveSnapshot", *connection_, [&](grpc::ClientContext* context) {
+    return connection_->simulator().SaveSnapshot(context, request, &response);
+  });
   return response.snapshot();
 }
 
@@ -147,7 +192,9 @@ Observation Session::RestoreSnapshot(const std::string& snapshot) {
   request.set_session_id(id());
   request.set_snapshot(snapshot);
   v1::RestoreSnapshotResponse response;
-  Check("RestoreSnapshot", connection_->simulator().RestoreSnapshot(connection_->MakeContext().get(), request, &response));
+  Call("RestoreSnapshot", *connection_, [&](grpc::ClientContext* context) {
+    return connection_->simulator().RestoreSnapshot(context, request, &response);
+  });
   return FromWire(response.stamp(), response.observation());
 }
 
@@ -155,7 +202,9 @@ v1::SessionStats Session::GetSessionStats() {
   v1::GetSessionStatsRequest request;
   request.set_session_id(id());
   v1::SessionStats response;
-  Check("GetSessionStats", connection_->simulator().GetSessionStats(connection_->MakeContext().get(), request, &response));
+  Call("GetSessionStats", *connection_, [&](grpc::ClientContext* context) {
+    return connection_->simulator().GetSessionStats(context, request, &response);
+  });
   return response;
 }
 
@@ -165,13 +214,17 @@ void Session::Close() {
   v1::CloseSessionRequest request;
   request.set_session_id(id());
   v1::CloseSessionResponse response;
-  Check("CloseSession", connection_->simulator().CloseSession(connection_->MakeContext().get(), request, &response));
+  Call("CloseSession", *connection_, [&](grpc::ClientContext* context) {
+    return connection_->simulator().CloseSession(context, request, &response);
+  });
 }
 
 v1::CutPlan Session::StartOracle(v1::StartOracleRequest request) {
   request.set_session_id(id());
   v1::StartOracleResponse response;
-  Check("StartOracle", connection_->tasks().StartOracle(connection_->MakeContext().get(), request, &response));
+  Call("StartOracle", *connection_, [&](grpc::ClientContext* context) {
+    return connection_->tasks().StartOracle(context, request, &response);
+  });
   return response.plan();
 }
 
@@ -179,7 +232,9 @@ v1::OracleActionResponse Session::OracleAction() {
   v1::OracleActionRequest request;
   request.set_session_id(id());
   v1::OracleActionResponse response;
-  Check("OracleAction", connection_->tasks().OracleAction(connection_->MakeContext().get(), request, &response));
+  Call("OracleAction", *connection_, [&](grpc::ClientContext* context) {
+    return connection_->tasks().OracleAction(context, request, &response);
+  });
   return response;
 }
 

@@ -29,19 +29,32 @@ namespace culinarycut::client {
 
 class RpcError : public std::runtime_error {
  public:
-  RpcError(const std::string& method, const grpc::Status& status);
+  RpcError(const std::string& method, const grpc::Status& status, std::string field = "");
   grpc::StatusCode code() const { return code_; }
   const std::string& details() const { return details_; }  // the server's message alone
+  // For INVALID_ARGUMENT: the path of the field at fault (e.g. "scene.objects[0].scale"), or "".
+  const std::string& field() const { return field_; }
 
  private:
   grpc::StatusCode code_;
   std::string details_;
+  std::string field_;
+};
+
+// How to reach a server started with --tls-cert (and --token-file or --tls-client-ca). Empty: plaintext.
+struct ConnectionOptions {
+  std::chrono::milliseconds call_timeout = std::chrono::seconds(30);
+  bool tls = false;                 // set by any of the PEM fields; set alone: TLS with the system's roots
+  std::string tls_root_certs_pem;   // the CA that signed the server's certificate
+  std::string tls_client_cert_pem;  // for servers that ask for client certificates
+  std::string tls_client_key_pem;
+  std::string token;                // bearer token (sent only over TLS)
 };
 
 // The channel, the stubs and the per-call deadline, shared by a Client and its Sessions.
 class Connection {
  public:
-  Connection(const std::string& address, std::chrono::milliseconds call_timeout);
+  Connection(const std::string& address, const ConnectionOptions& options);
   v1::Simulator::Stub& simulator() { return *simulator_; }
   v1::Tasks::Stub& tasks() { return *tasks_; }
   grpc::Channel& channel() { return *channel_; }
@@ -60,6 +73,7 @@ class Session;
 class Client {
  public:
   explicit Client(const std::string& address, std::chrono::milliseconds call_timeout = std::chrono::seconds(30));
+  Client(const std::string& address, const ConnectionOptions& options);
 
   // True once the server answers; false after `timeout`.
   bool WaitForServer(std::chrono::milliseconds timeout);
