@@ -18,6 +18,8 @@ PACKAGES=(
   catch2 libbenchmark-dev
   # the HTML benchmark report is checked in a real headless browser
   chromium chromium-driver python3-selenium
+  # fuzz targets: clang with libFuzzer and the sanitizers
+  clang libclang-rt-14-dev libomp-14-dev
   # Python client: Debian's packages, plus a project virtualenv for what Debian lacks (requirements/pypi.txt)
   python3 python3-venv python3-grpcio python3-grpc-tools python3-protobuf python3-numpy python3-zmq python3-pytest python3-opencv python3-jsonschema
   # plots in benchmarks, docs and examples

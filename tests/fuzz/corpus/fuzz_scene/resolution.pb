@@ -1,0 +1,3 @@
+"
+
+strawberry*draftHR	{®Gáz„?š™™™™™Ù?
