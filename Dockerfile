@@ -1,13 +1,45 @@
-# CulinaryCut server and clients on Debian 12 (bookworm).
-FROM debian:bookworm
+# CulinaryCut on Debian 12 (bookworm), in three stages:
+#   build   compilers, -dev packages and the sources; builds the server and the Python client
+#   server  the server binary, its assets and only the shared libraries it loads (no compilers); non-root
+#   client  the Python package and its virtualenv (`culinarycut` CLI, benchmark runner); non-root
+FROM debian:bookworm AS build
 WORKDIR /opt/culinarycut
 # install_deps.sh needs the pins and the Python package (it installs it into .venv), so the sources come first.
 COPY . .
-RUN bash scripts/install_deps.sh && rm -rf /var/lib/apt/lists/*
-RUN bash scripts/build.sh
-# The project virtualenv: `culinarycut` (the CLI) and its Python.
-ENV PATH=/opt/culinarycut/.venv/bin:$PATH
+RUN bash scripts/install_deps.sh && bash scripts/build.sh
+# The Debian packages that own the libraries the server links, for the runtime stage to install.
+RUN ldd build/server/culinarycut-server | awk '/=> \// {print $3}' | xargs -r realpath | xargs -r dpkg -S 2>/dev/null \
+      | cut -d: -f1 | sort -u > /opt/culinarycut/runtime-packages.txt
+
+FROM debian:bookworm-slim AS server
+COPY --from=build /opt/culinarycut/runtime-packages.txt /tmp/runtime-packages.txt
+# Mesa's EGL and software rasteriser are loaded at run time (dlopen), so ldd cannot see them.
+RUN apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
+      $(cat /tmp/runtime-packages.txt) libegl-mesa0 libgl1-mesa-dri \
+    && rm -rf /var/lib/apt/lists/* /tmp/runtime-packages.txt \
+    && useradd --system --no-create-home --shell /usr/sbin/nologin culinarycut
+COPY --from=build /opt/culinarycut/build/server/culinarycut-server /opt/culinarycut/bin/culinarycut-server
+COPY --from=build /opt/culinarycut/assets /opt/culinarycut/assets
+USER culinarycut
+WORKDIR /opt/culinarycut
 EXPOSE 50051 5556
-# Inside the container the server must listen on all of the container's interfaces; it has no TLS or
-# tokens yet, so docker-compose.yml publishes the ports on the host's loopback only.
-CMD ["build/server/culinarycut-server", "--listen", "0.0.0.0:50051", "--telemetry", "tcp://0.0.0.0:5556", "--insecure"]
+# Inside the container the server must listen on the container's interfaces for the port to be
+# published, hence --insecure: docker-compose.yml publishes it on the host's loopback only. To serve
+# other machines, mount a certificate and a token file and start it with --tls-cert, --tls-key and
+# --token-file instead (docs/protocol.md, "Access control").
+CMD ["/opt/culinarycut/bin/culinarycut-server", "--listen", "0.0.0.0:50051", "--telemetry", "tcp://0.0.0.0:5556", \
+     "--insecure"]
+
+FROM debian:bookworm-slim AS client
+RUN apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
+      python3 python3-grpcio python3-protobuf python3-numpy python3-zmq python3-opencv python3-jsonschema \
+      python3-matplotlib python3-pil \
+    && rm -rf /var/lib/apt/lists/* \
+    && useradd --create-home --shell /bin/bash culinarycut
+COPY --from=build /opt/culinarycut/.venv /opt/culinarycut/.venv
+COPY --from=build /opt/culinarycut/client/python /opt/culinarycut/client/python
+COPY --from=build /opt/culinarycut/benchmarks /opt/culinarycut/benchmarks
+ENV PATH=/opt/culinarycut/.venv/bin:$PATH CULINARYCUT_BENCHMARKS=/opt/culinarycut/benchmarks
+USER culinarycut
+WORKDIR /home/culinarycut
+CMD ["culinarycut", "--help"]
