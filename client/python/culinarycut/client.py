@@ -153,18 +153,20 @@ def _read_pem(path: str | None, what: str) -> bytes | None:
 
 
 def _channel(address: str, tls_ca: str | None, tls_cert: str | None, tls_key: str | None,
-             token: str | None) -> grpc.Channel:
+             token: str | None) -> tuple[grpc.Channel, tuple]:
+    """The channel, and the metadata every call sends on it (the bearer token, over TLS only)."""
     options = [("grpc.max_receive_message_length", MAX_MESSAGE_BYTES)]
     if not (tls_ca or tls_cert or token):
-        return grpc.insecure_channel(address, options=options)
+        return grpc.insecure_channel(address, options=options), ()
     if bool(tls_cert) != bool(tls_key):
         raise ValueError("a client certificate needs both tls_cert and tls_key")
     credentials = grpc.ssl_channel_credentials(root_certificates=_read_pem(tls_ca, "tls_ca"),
                                                private_key=_read_pem(tls_key, "tls_key"),
                                                certificate_chain=_read_pem(tls_cert, "tls_cert"))
-    if token:  # gRPC sends it as "authorization: Bearer <token>" on every call, over TLS only
-        credentials = grpc.composite_channel_credentials(credentials, grpc.access_token_call_credentials(token))
-    return grpc.secure_channel(address, credentials, options=options)
+    # The token as plain call metadata: what access_token_call_credentials sends, without its per-call
+    # Python callback (which made a Step round trip about 20 % slower; docs/benchmarks/tls_overhead.md).
+    metadata = (("authorization", f"Bearer {token}"),) if token else ()
+    return grpc.secure_channel(address, credentials, options=options), metadata
 
 
 class Client:
@@ -181,16 +183,16 @@ class Client:
         self.address = address
         self.timeout_s = timeout_s
         environ = os.environ
-        self._channel = _channel(address, tls_ca or environ.get("CULINARYCUT_TLS_CA"),
+        self._channel, self._metadata = _channel(address, tls_ca or environ.get("CULINARYCUT_TLS_CA"),
                                  tls_cert or environ.get("CULINARYCUT_TLS_CERT"),
                                  tls_key or environ.get("CULINARYCUT_TLS_KEY"),
                                  token or environ.get("CULINARYCUT_TOKEN"))
         self._stub = simulator_pb2_grpc.SimulatorStub(self._channel)
-        self.tasks = TaskClient(self._channel, timeout_s)  # the Tasks service on the same channel
+        self.tasks = TaskClient(self._channel, timeout_s, self._metadata)  # the Tasks service on the same channel
 
     def _call(self, method, request):
         try:
-            return method(request, timeout=self.timeout_s)
+            return method(request, timeout=self.timeout_s, metadata=self._metadata)
         except grpc.RpcError as err:
             raise from_rpc_error(err) from None  # the grpc traceback adds nothing for the caller
 

@@ -122,13 +122,14 @@ def _measured_cut(cut) -> task_pb2.MeasuredCut:
 class TaskClient:
     """Calls of the Tasks service over an existing channel (Client.tasks makes one for you)."""
 
-    def __init__(self, channel: grpc.Channel, timeout_s: float = 30.0):
+    def __init__(self, channel: grpc.Channel, timeout_s: float = 30.0, metadata: tuple = ()):
         self._stub = task_pb2_grpc.TasksStub(channel)
         self.timeout_s = timeout_s
+        self._metadata = metadata  # the bearer token, when the channel has one
 
     def _call(self, method, request):
         try:
-            return method(request, timeout=self.timeout_s)
+            return method(request, timeout=self.timeout_s, metadata=self._metadata)
         except grpc.RpcError as err:
             raise from_rpc_error(err) from None
 
