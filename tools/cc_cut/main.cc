@@ -12,7 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include "outputs.h"
-#include "sim/mpm/cut_scene.h"
+#include "tools/cc_cut/cut_scene.h"
 
 namespace {
 

@@ -4,7 +4,7 @@
 #include <ostream>
 #include <string>
 
-#include "sim/mpm/cut_scene.h"
+#include "tools/cc_cut/cut_scene.h"
 
 namespace culinarycut::cc_cut {
 

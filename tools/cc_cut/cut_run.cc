@@ -1,4 +1,4 @@
-#include "sim/mpm/cut_scene.h"
+#include "tools/cc_cut/cut_scene.h"
 
 #include <algorithm>
 #include <chrono>

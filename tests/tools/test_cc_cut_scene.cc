@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "sim/mpm/cut_scene.h"
+#include "tools/cc_cut/cut_scene.h"
 
 namespace culinarycut::mpm {
 namespace {

@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "sim/mpm/cut_scene.h"
+#include "tools/cc_cut/cut_scene.h"
 #include "sim/mpm/food_shapes.h"
 
 namespace culinarycut::mpm {
