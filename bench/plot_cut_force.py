@@ -48,7 +48,10 @@ def main() -> int:
     averaged = [sum(fz[max(0, i - window + 1):i + 1]) / len(fz[max(0, i - window + 1):i + 1]) for i in range(len(fz))]
     top.plot(t_ms, fz, color="tab:red", lw=0.6, alpha=0.5, label="blade, vertical, per substep (N)")
     top.plot(t_ms, averaged, color="darkred", lw=1.6, label=f"blade, vertical, averaged over dx / v = {1e3 * window * dt:.0f} ms")
-    top.plot(t_ms, column("blade_fx_n"), color="tab:orange", lw=0.8, label="blade, across the blade (N)")
+    # Across the blade is along the food's long axis (the blade's normal), whichever way the food lies.
+    axis = resolved.get("food", {}).get("axis_direction", [1.0, 0.0, 0.0])
+    across = [axis[0] * fx + axis[1] * fy for fx, fy in zip(column("blade_fx_n"), column("blade_fy_n"))]
+    top.plot(t_ms, across, color="tab:orange", lw=0.8, label="blade, across the blade (N)")
     top.set_ylabel("force of the food on the knife (N)")
     top.grid(alpha=0.3)
     height = top.twinx()
@@ -64,8 +67,8 @@ def main() -> int:
     damaged.set_ylabel("damaging (per substep)", color="tab:purple")
     bottom.set_xlabel("time (ms)")
     bottom.grid(alpha=0.3)
-    food = scene.get("food", {})
-    fig.suptitle(f"cc-cut: {food.get('name', '?')} at scale {food.get('scale', '?')}, "
+    food = (scene.get("scene", {}).get("objects") or [{}])[0]
+    fig.suptitle(f"cc-cut: {food.get('food', '?')} at scale {food.get('scale') or 1}, "
                  f"{len(summary['summary'].get('pieces', []))} pieces", fontsize=11)
     fig.tight_layout()
     args.image.parent.mkdir(parents=True, exist_ok=True)

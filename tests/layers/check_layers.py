@@ -2,8 +2,9 @@
 """Fails when an #include points up a layer (see docs/architecture.md).
 
 Layers, lowest first: sim/core <- sim/robot, sim/mpm, sim/task, sim/render <- sim/safety, sim/world
-<- sim/policy <- server <- tools. sim/world may include only the GL-free part of sim/render, so a
-user of the world links no EGL; the C++ client includes nothing of the engine or the server.
+<- sim/policy <- server/wire <- server. tools build on sim and server/wire (the wire conversions),
+never on the services. sim/world may include only the GL-free part of sim/render, so a user of the
+world links no EGL; the C++ client includes nothing of the engine or the server.
 
 Usage: check_layers.py REPO_ROOT          check the repository, print every violation, exit 1 if any
        check_layers.py --self-test        check the checker on a fabricated tree
@@ -29,9 +30,12 @@ ALLOWED = {
     "sim/safety": {"sim/core", "sim/robot", "sim/mpm", "sim/task", "sim/render"},
     "sim/world": {"sim/core", "sim/robot", "sim/mpm", "sim/task", "sim/render", "sim/safety"},
     "sim/policy": {"sim/core", "sim/robot", "sim/mpm", "sim/task", "sim/render", "sim/safety", "sim/world"},
-    "server": {"sim/core", "sim/robot", "sim/mpm", "sim/task", "sim/render", "sim/safety", "sim/world", "sim/policy"},
+    "server/wire": {"sim/core", "sim/robot", "sim/mpm", "sim/task", "sim/render", "sim/safety", "sim/world",
+                    "sim/policy"},
+    "server": {"sim/core", "sim/robot", "sim/mpm", "sim/task", "sim/render", "sim/safety", "sim/world", "sim/policy",
+               "server/wire"},
     "tools": {"sim/core", "sim/robot", "sim/mpm", "sim/task", "sim/render", "sim/safety", "sim/world", "sim/policy",
-              "server"},
+              "server/wire"},
     "client/cpp": set(),
 }
 # The GL-free headers of sim/render: all that sim/world (and what builds on it) may see of rendering.
@@ -90,13 +94,17 @@ def self_test() -> int:
             "sim/world/bad_gl.cc": '#include "sim/render/renderer.h"\n',          # world -> EGL renderer
             "sim/world/fine.cc": '#include "sim/render/camera.h"\n#include "sim/mpm/solver.h"\n',
             "client/cpp/src/bad.cc": '#include "server/status.h"\n',              # client -> server
-            "server/fine.cc": '#include "sim/world/step.h"\n',
+            "server/fine.cc": '#include "sim/world/step.h"\n#include "server/wire/scene.h"\n',
+            "server/wire/bad_service.cc": '#include "server/status.h"\n',        # wire -> services: up
+            "tools/x/fine.cc": '#include "server/wire/scene.h"\n#include "sim/world/model.h"\n',
+            "tools/x/bad_service.cc": '#include "server/session_manager.h"\n',  # tools -> services
         }
         for name, text in files.items():
             (root / name).parent.mkdir(parents=True, exist_ok=True)
             (root / name).write_text(text)
         found = violations(root)
-        expected = ["sim/render/bad_upward.h", "sim/mpm/bad_robot.h", "sim/world/bad_gl.cc", "client/cpp/src/bad.cc"]
+        expected = ["sim/render/bad_upward.h", "sim/mpm/bad_robot.h", "sim/world/bad_gl.cc", "client/cpp/src/bad.cc",
+                    "server/wire/bad_service.cc", "tools/x/bad_service.cc"]
         missing = [name for name in expected if not any(v.startswith(name) for v in found)]
         extra = [v for v in found if not any(v.startswith(name) for name in expected)]
         links = root / "links.txt"

@@ -11,15 +11,18 @@
 
 #include <CLI/CLI.hpp>
 
-#include "outputs.h"
-#include "sim/mpm/cut_scene.h"
+#include "tools/cc_cut/cut_model.h"
+#include "tools/cc_cut/cut_run.h"
+#include "tools/cc_cut/cut_scene.h"
+#include "tools/cc_cut/outputs.h"
 
 namespace {
 
 namespace fs = std::filesystem;
-using culinarycut::mpm::CutScene;
-using culinarycut::mpm::CutSceneSummary;
-using culinarycut::mpm::CutStepRecord;
+using culinarycut::cc_cut::CutModel;
+using culinarycut::cc_cut::CutScene;
+using culinarycut::cc_cut::CutStepRecord;
+using culinarycut::cc_cut::CutSummary;
 
 constexpr int kBadInput = 2;
 constexpr double kProgressPeriodS = 0.5;
@@ -63,12 +66,14 @@ int main(int argc, char** argv) {
   std::string text;
   if (!ReadFile(scene_path, &text)) return Fail("cannot read scene file '" + scene_path + "'");
   CutScene scene;
+  CutModel model;
   try {
-    scene = culinarycut::mpm::CutSceneFromJson(text);
-  } catch (const std::exception& error) {
+    scene = culinarycut::cc_cut::CutSceneFromJson(text);
+    if (threads > 0) scene.solver.threads = threads;
+    model = culinarycut::cc_cut::CompileCut(scene);
+  } catch (const std::invalid_argument& error) {
     return Fail(scene_path + ": " + error.what());
   }
-  if (threads > 0) scene.solver.threads = threads;
 
   std::error_code error;
   fs::create_directories(out_dir, error);
@@ -91,21 +96,19 @@ int main(int argc, char** argv) {
                 record.knife_height_m, record.diagnostics.force_on_blade_n.norm(), record.step);
     std::fflush(stdout);
   };
-  CutSceneSummary summary;
+  CutSummary summary;
   try {
-    summary = culinarycut::mpm::RunCutScene(scene, on_step);
-  } catch (const std::invalid_argument& bad_scene) {
-    return Fail(scene_path + ": " + bad_scene.what());
+    summary = culinarycut::cc_cut::RunCut(model, on_step);
   } catch (const std::exception& failure) {
     std::cerr << "cc-cut: simulation failed: " << failure.what() << "\n";
     return 1;
   }
-  summary_file << culinarycut::cc_cut::SummaryJson(scene_path, scene, summary);
+  summary_file << culinarycut::cc_cut::SummaryJson(scene_path, scene, model, summary);
   steps.close();
   summary_file.close();
   if (!steps || !summary_file) return Fail("writing the outputs in '" + out_dir + "' failed");
   if (!quiet) {
-    culinarycut::cc_cut::PrintSummary(scene, summary, std::cout);
+    culinarycut::cc_cut::PrintSummary(model, summary, std::cout);
     std::cout << "wrote " << steps_path.string() << " and " << summary_path.string() << "\n";
   }
   return 0;

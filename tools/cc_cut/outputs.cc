@@ -1,9 +1,11 @@
-#include "outputs.h"
+#include "tools/cc_cut/outputs.h"
 
 #include <cmath>
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
+
+#include "tools/cc_cut/scene_spec_json.h"
 
 namespace culinarycut::cc_cut {
 namespace {
@@ -34,18 +36,29 @@ json MaterialJson(const mpm::Material& m) {
           {"source", m.source}};
 }
 
-json ResolvedJson(const mpm::CutScene& scene, const mpm::CutSceneSummary& s) {
-  const mpm::SolverConfig& config = scene.solver;
+json ResolvedJson(const CutModel& model, const CutSummary& s) {
+  const mpm::SolverConfig& config = model.food.solver->config;
   const mpm::CuttingParameters& cutting = config.cutting;
+  const SceneLayout& layout = model.layout;
   const double dx = config.dx_m;
   const double band_m =
       cutting.band0_m * std::pow(cutting.band_reference_dx_m / dx, cutting.band_gamma);
-  return {{"material", MaterialJson(s.material)},
+  const mpm::TopologyOptions& topology = model.food.topology;
+  return {{"scene", SceneSpecToJson(ResolvedSceneSpec(model))},
+          {"material", MaterialJson(s.material)},
           {"dx_m", dx},
           {"dt_s", s.dt_s},
-          {"particles_per_cell", scene.particles_per_cell},
+          {"particles_per_cell", model.food.resolution.particles_per_cell},
           {"particles", s.particles},
           {"threads", config.threads},
+          {"effects",
+           {{"plasticity", config.effects.plasticity},
+            {"damage", config.effects.damage},
+            {"friction", config.effects.friction},
+            {"two_sided_blade", config.effects.two_sided_blade},
+            {"force_sensing", config.effects.force_sensing}}},
+          {"grid_damping_per_s", config.grid_damping_per_s},
+          {"gravity_m_s2", Vec(config.gravity_m_s2)},
           {"thresholds",
            {{"j_min", config.j_min},
             {"j_max", config.j_max},
@@ -63,16 +76,16 @@ json ResolvedJson(const mpm::CutScene& scene, const mpm::CutSceneSummary& s) {
             {"cut_fraction", s.requested_cut_m / s.food_length_m},
             {"start_height_m", s.start_height_m},
             {"end_height_m", s.end_height_m}}},
-          {"board", {{"size_m", Vec(s.board_size_m)}, {"centre_m", Vec(s.board_centre_m)}}},
-          {"table_height_m", s.table_height_m},
+          {"board", {{"size_m", Vec(layout.board_size_m)}, {"centre_m", Vec(layout.board_center_m)}}},
+          {"table_height_m", layout.table_center_m.z() + 0.5 * layout.table_size_m.z()},
           {"topology",
-           {{"link_distance_m", s.topology.link_distance_m},
-            {"broken_damage", s.topology.broken_damage},
-            {"min_piece_particles", s.topology.min_piece_particles},
-            {"separate_blade_sides", s.topology.separate_blade_sides}}}};
+           {{"link_distance_m", topology.link_distance_m},
+            {"broken_damage", topology.broken_damage},
+            {"min_piece_particles", topology.min_piece_particles},
+            {"separate_blade_sides", topology.separate_blade_sides}}}};
 }
 
-json ResultJson(const mpm::CutSceneSummary& s) {
+json ResultJson(const CutSummary& s) {
   json pieces = json::array();
   for (const mpm::Piece& piece : s.pieces) {
     pieces.push_back({{"label", piece.label},
@@ -106,7 +119,7 @@ json ResultJson(const mpm::CutSceneSummary& s) {
           {"broken_particles", s.broken_particles},
           {"min_speed_factor", s.min_speed_factor},
           {"wall_time_ms",
-           {{"sampling", s.sampling_ms},
+           {{"compile", s.compile_ms},
             {"setup", s.setup_ms},
             {"p2g", s.p2g_ms},
             {"grid", s.grid_ms},
@@ -126,7 +139,7 @@ void WriteStepsHeader(std::ostream& out) {
          "kinetic_energy_j,elastic_energy_j,momentum_residual\n";
 }
 
-void WriteStepRow(const mpm::CutStepRecord& record, std::ostream& out) {
+void WriteStepRow(const CutStepRecord& record, std::ostream& out) {
   const mpm::SubstepDiagnostics& d = record.diagnostics;
   out << record.step;
   Number(record.time_s, out);
@@ -148,22 +161,23 @@ void WriteStepRow(const mpm::CutStepRecord& record, std::ostream& out) {
   out << '\n';
 }
 
-std::string SummaryJson(const std::string& scene_path, const mpm::CutScene& scene,
-                        const mpm::CutSceneSummary& summary) {
+std::string SummaryJson(const std::string& scene_path, const CutScene& scene, const CutModel& model,
+                        const CutSummary& summary) {
   const json root = {{"tool", "cc-cut"},
                      {"scene_file", scene_path},
-                     {"scene", json::parse(mpm::CutSceneToJson(scene))},
-                     {"resolved", ResolvedJson(scene, summary)},
+                     {"scene", json::parse(CutSceneToJson(scene))},
+                     {"resolved", ResolvedJson(model, summary)},
                      {"summary", ResultJson(summary)}};
   return root.dump(2) + "\n";
 }
 
-void PrintSummary(const mpm::CutScene& scene, const mpm::CutSceneSummary& s, std::ostream& out) {
+void PrintSummary(const CutModel& model, const CutSummary& s, std::ostream& out) {
+  const FoodConfig& food = model.config.foods.front();
   char line[256];
   std::snprintf(line, sizeof(line),
                 "%s (scale %.2f, %s E %.3g Pa): %zu particles, dx %.1f mm, dt %.3g s\n",
-                scene.food.name.c_str(), scene.food.scale, s.material.name.c_str(),
-                s.material.youngs_modulus_pa, s.particles, scene.solver.dx_m * 1e3, s.dt_s);
+                food.food.c_str(), food.scale, s.material.name.c_str(), s.material.youngs_modulus_pa,
+                s.particles, model.food.resolution.dx_m * 1e3, s.dt_s);
   out << line;
   std::snprintf(line, sizeof(line), "pieces: %zu%s\n", s.pieces.size(),
                 s.hit_time_limit ? "  (stopped at max_time_s)" : "");
@@ -175,7 +189,7 @@ void PrintSummary(const mpm::CutScene& scene, const mpm::CutSceneSummary& s, std
                   piece.centroid_m.y(), piece.centroid_m.z());
     out << line;
   }
-  std::snprintf(line, sizeof(line), "requested cut: %.1f mm along the axis (fraction %.3f)\n",
+  std::snprintf(line, sizeof(line), "requested cut: %.1f mm from the left end (fraction %.3f)\n",
                 s.requested_cut_m * 1e3, s.requested_cut_m / s.food_length_m);
   out << line;
   for (const double cut_m : s.cut_positions_m) {
@@ -193,9 +207,9 @@ void PrintSummary(const mpm::CutScene& scene, const mpm::CutSceneSummary& s, std
   out << line;
   std::snprintf(line, sizeof(line),
                 "runtime: %.2f s for %d substeps (%.3f s simulated); %.3g particle-steps/s\n"
-                "  setup %.0f ms, p2g %.0f ms, grid %.0f ms, g2p %.0f ms, topology %.0f ms\n",
-                s.total_ms * 1e-3, s.substeps, s.sim_time_s, s.particle_steps_per_s, s.setup_ms,
-                s.p2g_ms, s.grid_ms, s.g2p_ms, s.topology_ms);
+                "  compile %.0f ms, setup %.0f ms, p2g %.0f ms, grid %.0f ms, g2p %.0f ms, topology %.0f ms\n",
+                s.total_ms * 1e-3, s.substeps, s.sim_time_s, s.particle_steps_per_s, s.compile_ms,
+                s.setup_ms, s.p2g_ms, s.grid_ms, s.g2p_ms, s.topology_ms);
   out << line;
 }
 

@@ -1,21 +1,21 @@
-#include "sim/mpm/cut_scene.h"
+#include "tools/cc_cut/cut_run.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <stdexcept>
 
 #include "sim/core/stage_timer.h"
-#include "sim/mpm/food_shapes.h"
+#include "sim/task/object_box.h"
+#include "sim/world/food_state.h"
 
-namespace culinarycut::mpm {
+namespace culinarycut::cc_cut {
 namespace {
 
-// The knife TCP frame for a blade across `axis` (horizontal, unit): blade normal (TCP y) along the
-// axis, edge down (TCP z = -world z), TCP x = y cross z along the blade. Yaw 0 gives BladeAcrossX.
+// The knife TCP frame for a blade across `axis` (unit): blade normal (TCP y) along the axis's
+// horizontal part, edge down (TCP z = -world z), TCP x = y cross z along the blade.
 Eigen::Matrix3d BladeAcross(const Eigen::Vector3d& axis) {
   Eigen::Matrix3d rotation;
-  rotation.col(1) = axis;
+  rotation.col(1) = Eigen::Vector3d(axis.x(), axis.y(), 0.0).normalized();
   rotation.col(2) = -Eigen::Vector3d::UnitZ();
   rotation.col(0) = rotation.col(1).cross(rotation.col(2));
   return rotation;
@@ -30,59 +30,40 @@ struct KnifeState {
   double settle_left_s = 0.0;
 };
 
+// The food's long axis, the requested cut point and the path's edge heights.
+void ResolvePath(const CutModel& model, CutSummary* summary) {
+  const task::ObjectBox& food = model.food.objects.front();
+  const task::LongAxis axis = task::LongAxisOf(food);
+  const KnifePath& path = model.knife;
+  summary->food_length_m = axis.length_m;
+  summary->axis_origin_m = axis.left_end_m;
+  summary->axis_direction = axis.direction;
+  summary->requested_cut_m = path.cut_from_centre_m
+                                 ? 0.5 * axis.length_m + *path.cut_from_centre_m
+                                 : path.cut_fraction.value_or(0.5) * axis.length_m;
+  summary->start_height_m = task::TopZ(food) + path.start_above_top_m;
+  summary->end_height_m = task::BottomZ(food) - path.end_below_bottom_m;
+}
+
 }  // namespace
 
-CutSceneSummary RunCutScene(const CutScene& scene, const CutStepCallback& on_step) {
+CutSummary RunCut(const CutModel& model, const CutStepCallback& on_step) {
   const auto start_total = std::chrono::steady_clock::now();
-  CutSceneSummary summary;
-  summary.material = ResolveMaterial(scene);
-  Solver<float> solver(scene.solver, {summary.material});
-  const double dx = scene.solver.dx_m;
-  const CutSceneKnife& path = scene.knife;
+  CutSummary summary;
+  summary.compile_ms = model.compile_ms;
+  summary.material = model.food.solver->materials.front();
+  summary.particles = model.food.initial_particles.size();
+  ResolvePath(model, &summary);
+  const KnifePath& path = model.knife;
 
-  // The food, resting on the board unless its height is given.
-  const auto shape = MakeFoodShape(scene.food.name, scene.food.scale);
-  const Eigen::AlignedBox3d local = shape->LocalBounds();
-  const double board_top_m = summary.board_centre_m.z() + 0.5 * summary.board_size_m.z();
-  const double yaw_rad = scene.food.yaw_deg * M_PI / 180.0;
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  pose.translation() =
-      Eigen::Vector3d(scene.food.position_xy_m.x(), scene.food.position_xy_m.y(),
-                      scene.food.position_z_m.value_or(board_top_m - local.min().z()));
-  SamplingOptions sampling;
-  sampling.dx_m = dx;
-  sampling.particles_per_cell = scene.particles_per_cell;
-  sampling.seed = scene.seed;
-  const auto start_sampling = std::chrono::steady_clock::now();
-  summary.particles =
-      SampleFood(*shape, pose, summary.material.density_kg_m3, 0, 0, sampling, &solver.particles());
-  summary.sampling_ms = MillisecondsSince(start_sampling);
-  if (summary.particles == 0) {
-    throw std::invalid_argument("solver.dx_m: no particle sampled; the food is too small for dx");
-  }
+  // The food, board, table and knife exactly as a server episode starts them.
+  FoodState food;
+  ResetFood(model.food, model.layout, &food);
+  mpm::Solver<float>& solver = *food.solver;
 
-  RigidMotion board;
-  board.pose.translation() = summary.board_centre_m;
-  solver.SetBoard(summary.board_size_m, board);
-  solver.SetTable(summary.table_height_m);
-  solver.SetKnife(KnifeGeometry{});
-
-  // The long axis and the path.
-  const Eigen::Vector3d axis = pose.linear().col(0);
-  const Eigen::Vector3d centre = pose.translation();
-  summary.food_length_m = local.sizes().x();
-  summary.axis_direction = axis;
-  summary.axis_origin_m = centre + local.min().x() * axis;
-  const double cut_local_x_m = path.cut_local_x_m.value_or(
-      local.min().x() + path.cut_fraction.value_or(0.5) * summary.food_length_m);
-  summary.requested_cut_m = cut_local_x_m - local.min().x();
-  const Eigen::Vector3d cut_point = centre + cut_local_x_m * axis;
-  const double food_top_m = centre.z() + local.max().z();
-  const double food_bottom_m = centre.z() + local.min().z();
-  summary.start_height_m = food_top_m + path.start_above_top_m;
-  summary.end_height_m = food_bottom_m - path.end_below_bottom_m;
-  const Eigen::Matrix3d blade_rotation = BladeAcross(axis);
+  const Eigen::Vector3d cut_point =
+      summary.axis_origin_m + summary.requested_cut_m * summary.axis_direction;
+  const Eigen::Matrix3d blade_rotation = BladeAcross(summary.axis_direction);
   const Eigen::Vector3d along_blade = blade_rotation.col(0);
 
   summary.dt_s = solver.StableTimestep();
@@ -107,7 +88,7 @@ CutSceneSummary RunCutScene(const CutScene& scene, const CutStepCallback& on_ste
     double vz_m_s = 0.0;
     if (descending) vz_m_s = -path.descent_speed_m_s * knife.speed_fraction;
     if (knife.phase == KnifeState::Phase::kLifting) vz_m_s = path.lift_speed_m_s;
-    RigidMotion motion;
+    mpm::RigidMotion motion;
     motion.pose.linear() = blade_rotation;
     motion.pose.translation() =
         Eigen::Vector3d(cut_point.x(), cut_point.y(), knife.height_m) + saw_m * along_blade;
@@ -118,7 +99,7 @@ CutSceneSummary RunCutScene(const CutScene& scene, const CutStepCallback& on_ste
     record.step = summary.substeps;
     record.knife_height_m = knife.height_m;
     record.diagnostics = solver.Substep(dt);
-    const SubstepDiagnostics& d = record.diagnostics;
+    const mpm::SubstepDiagnostics& d = record.diagnostics;
     time_s += dt;
     record.time_s = time_s;
     ++summary.substeps;
@@ -172,19 +153,17 @@ CutSceneSummary RunCutScene(const CutScene& scene, const CutStepCallback& on_ste
   summary.momentum_mismatch =
       collider_impulse_sum > 0.0 ? mismatch.norm() / collider_impulse_sum : 0.0;
 
-  // Pieces: damage alone separates them.
+  // Pieces, with the topology options a server session uses (damage alone separates them).
   const auto start_topology = std::chrono::steady_clock::now();
-  summary.topology.link_distance_m = 0.75 * dx;
-  summary.topology.min_piece_particles = 20;
-  summary.topology.separate_blade_sides = false;
-  summary.pieces = DetectPieces(summary.topology, &solver.particles());
+  UpdatePieces(model.food, &food);
+  summary.pieces = food.pieces;
   summary.cut_positions_m =
-      CutPositionsAlongAxis(summary.pieces, 0, summary.axis_origin_m, summary.axis_direction);
+      mpm::CutPositionsAlongAxis(summary.pieces, 0, summary.axis_origin_m, summary.axis_direction);
   for (const auto damage : solver.particles().damage) {
-    summary.broken_particles += damage >= summary.topology.broken_damage;
+    summary.broken_particles += damage >= model.food.topology.broken_damage;
   }
   summary.topology_ms = MillisecondsSince(start_topology);
-  summary.total_ms = MillisecondsSince(start_total);
+  summary.total_ms = summary.compile_ms + MillisecondsSince(start_total);
   if (substep_ms > 0.0) {
     summary.particle_steps_per_s =
         double(summary.particles) * summary.substeps / (substep_ms * 1e-3);
@@ -192,4 +171,4 @@ CutSceneSummary RunCutScene(const CutScene& scene, const CutStepCallback& on_ste
   return summary;
 }
 
-}  // namespace culinarycut::mpm
+}  // namespace culinarycut::cc_cut
