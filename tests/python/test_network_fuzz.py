@@ -7,8 +7,10 @@ import random
 import time
 
 import grpc
+import pytest
 from google.protobuf import descriptor, message_factory
 
+from culinarycut.launch import ServerProcess, server_binary
 from culinarycut.v1 import simulator_pb2, task_pb2
 
 SERVICES = [simulator_pb2.DESCRIPTOR.services_by_name["Simulator"], task_pb2.DESCRIPTOR.services_by_name["Tasks"]]
@@ -67,6 +69,13 @@ def fill(rng: random.Random, message, depth: int = 0) -> None:
             getattr(message, field.name).extend(random_value(rng, field) for _ in range(rng.randint(0, 12)))
         else:
             setattr(message, field.name, random_value(rng, field))
+
+
+@pytest.fixture
+def server():
+    """A server of its own: the requests create sessions nobody closes."""
+    with ServerProcess(server_binary(), max_sessions=8) as own:
+        yield own
 
 
 def test_random_requests_never_take_the_server_down(server):
