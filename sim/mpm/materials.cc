@@ -7,7 +7,8 @@ namespace culinarycut::mpm {
 namespace {
 
 // Presets. Bulk values from the literature where it has them (cited per preset below);
-// "chosen" where it does not. Yield stresses set plastic flow near the failure stress.
+// "chosen" where it does not. Yield stresses set plastic flow near the failure stress. Friction on
+// the board is chosen equal to the knife's until it is measured.
 std::vector<Material> Presets() {
   auto make = [](const char* name, double E_pa, double nu, double rho, double yield_pa,
                  double friction, const char* source) {
@@ -18,6 +19,7 @@ std::vector<Material> Presets() {
     m.density_kg_m3 = rho;
     m.yield_stress_pa = yield_pa;
     m.friction_coefficient = friction;
+    m.board_friction_coefficient = friction;
     m.source = source;
     return m;
   };
@@ -70,6 +72,9 @@ void ValidateMaterial(const Material& material) {
   }
   if (!(material.friction_coefficient >= 0.0 && std::isfinite(material.friction_coefficient))) {
     throw std::invalid_argument(where + "friction_coefficient must be >= 0");
+  }
+  if (!(material.board_friction_coefficient >= 0.0 && std::isfinite(material.board_friction_coefficient))) {
+    throw std::invalid_argument(where + "board_friction_coefficient must be >= 0");
   }
 }
 

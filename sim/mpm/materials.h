@@ -16,7 +16,8 @@ struct Material {
   // 0: rate-independent radial return; > 0: the overstress relaxes with this time constant
   // (Perzyna-style: a fraction dt / (t + dt) of it returns each step).
   double viscoplastic_relaxation_time_s = 0.0;
-  double friction_coefficient = 0.5;  // Coulomb, knife and board against this food
+  double friction_coefficient = 0.5;        // Coulomb, the knife (blade and handle) against this food
+  double board_friction_coefficient = 0.5;  // Coulomb, the board and the table against this food
   std::string source;                 // where the numbers come from
 
   double shear_modulus_pa() const { return youngs_modulus_pa / (2.0 * (1.0 + poisson_ratio)); }

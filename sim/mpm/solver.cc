@@ -97,6 +97,12 @@ double StableTimestep(const SolverModel& model) {
   return std::min(model.config.max_dt_s, model.config.cfl * model.config.dx_m / fastest_m_s);
 }
 
+double StableTimestep(const SolverModel& model, double collider_speed_m_s) {
+  const double dt_s = StableTimestep(model);
+  if (!(collider_speed_m_s > 0.0)) return dt_s;
+  return std::min(dt_s, model.config.cfl * model.config.dx_m / collider_speed_m_s);
+}
+
 
 template <typename Real>
 SubstepContext Solver<Real>::MakeContext(double dt_s) const {
@@ -260,12 +266,11 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
             : 0.0;
   }
   // Quadratic speed resistance (paper): u <- u / (1 + k2 c-hat u dt) with u = 1 the current speed;
-  // k2 grows with the material's stiffness and strength.
-  if (context.knife_on && contact.c_hat > 0.0) {
-    const Material& material = materials().front();
-    const double k2 = config().cutting.k2_reference_per_s *
-                      (material.youngs_modulus_pa / config().cutting.k2_reference_youngs_pa) *
-                      (1.0 + material.yield_stress_pa / config().cutting.k2_reference_yield_pa);
+  // k2 is the touched foods' (SpeedResistance), weighted by how fast the blade pushes into each.
+  if (context.knife_on && contact.c_hat > 0.0 && grid_totals.approach_speed_sum > 0.0) {
+    const ContactMaterials& foods = workspace_->contact_materials;
+    const double k2 = foods.uniform() ? foods.At(Eigen::Vector3d::Zero()).k2_per_s
+                                      : grid_totals.resistance_sum / grid_totals.approach_speed_sum;
     diagnostics.knife_speed_factor = 1.0 / (1.0 + k2 * contact.c_hat * dt_s);
   }
   return diagnostics;

@@ -76,6 +76,12 @@ void Solver<Real>::PrepareWorkspace(int team) {
   // memory instead of jumping (deterministic: the order depends only on the positions).
   work.reorder_now = work.substeps_since_reorder++ % kReorderEverySubsteps == 0;
   if (work.reorder_now) SizeBlockOrderSpares(&work.blocks, particles_, &work.reorder_spare);
+  if (!work.contact_materials_ready) {
+    work.contact_materials = ContactMaterials(materials(), config().cutting);
+    work.contact_materials_ready = true;
+  }
+  // Two cells of margin: a node touches the food's particles within its stencil's reach.
+  work.contact_materials.Measure(particles_, 2.0 * config().dx_m);
   // A new stamp marks this substep's finished stress chunks and blocks (no clearing).
   if (++work.stamp == 0) {
     std::fill(work.chunk_done.begin(), work.chunk_done.end(), 0u);

@@ -31,7 +31,7 @@ void Solver<Real>::UpdateGrid(const SubstepContext& context, ContactState* conta
   const bool split_on = context.split_on;
   const double blade_half_m = context.blade_half_m;
   const std::size_t nodes = grid.size();
-  const double friction = materials().front().friction_coefficient;
+  const ContactMaterials& contact_materials = work.contact_materials;
   const bool use_friction = effects.friction;
   const Eigen::AlignedBox3d blade_box =
       knife_on ? knife_->BladeBounds(dx) : Eigen::AlignedBox3d();
@@ -59,20 +59,26 @@ void Solver<Real>::UpdateGrid(const SubstepContext& context, ContactState* conta
       totals->mass += m;
     }
     double approach = 0.0;
+    // The food this node belongs to (its friction and resistance), looked up only on contact.
+    const ContactMaterial* food = nullptr;
+    auto food_at_node = [&]() -> const ContactMaterial& {
+      if (!food) food = &contact_materials.At(x);
+      return *food;
+    };
     if (board_ && board_box.contains(x)) {
       const SdfSample sample = board_->Sample(x);
       if (sample.distance_m < 0.0) {
         const Eigen::Vector3d before = v;
-        if (ResolveContact(sample.normal, board_->motion().VelocityAt(x), friction, use_friction,
-                           &v, &approach)) {
+        if (ResolveContact(sample.normal, board_->motion().VelocityAt(x), food_at_node().board_friction,
+                           use_friction, &v, &approach)) {
           if (sense_force) totals->board_impulse += m * (v - before);
         }
       }
     }
     if (table_ && x.z() <= table_->height_m()) {
       const Eigen::Vector3d before = v;
-      if (ResolveContact(Eigen::Vector3d::UnitZ(), Eigen::Vector3d::Zero(), friction, use_friction,
-                         &v, &approach)) {
+      if (ResolveContact(Eigen::Vector3d::UnitZ(), Eigen::Vector3d::Zero(), food_at_node().board_friction,
+                         use_friction, &v, &approach)) {
         if (sense_force) totals->table_impulse += m * (v - before);
       }
     }
@@ -82,7 +88,7 @@ void Solver<Real>::UpdateGrid(const SubstepContext& context, ContactState* conta
         const double sign = side == 1 ? 1.0 : -1.0;
         if (sign * knife_->SideOfBlade(x) < blade_half_m + kBladeContactOffsetCells * dx) {
           const Eigen::Vector3d before = v;
-          if (ResolveContact(sign * blade_normal, knife_->motion().VelocityAt(x), friction,
+          if (ResolveContact(sign * blade_normal, knife_->motion().VelocityAt(x), food_at_node().knife_friction,
                              use_friction, &v, &approach)) {
             if (sense_force) totals->blade_impulse += m * (v - before);
           }
@@ -91,10 +97,11 @@ void Solver<Real>::UpdateGrid(const SubstepContext& context, ContactState* conta
         const SdfSample sample = knife_->Blade(x);
         if (sample.distance_m < kBladeContactOffsetCells * dx) {
           const Eigen::Vector3d before = v;
-          if (ResolveContact(sample.normal, knife_->motion().VelocityAt(x), friction, use_friction,
-                             &v, &approach)) {
+          if (ResolveContact(sample.normal, knife_->motion().VelocityAt(x), food_at_node().knife_friction,
+                             use_friction, &v, &approach)) {
             if (sense_force) totals->blade_impulse += m * (v - before);
             totals->approach_speed_sum += approach;
+            totals->resistance_sum += approach * food_at_node().k2_per_s;
           }
         }
       }
@@ -102,8 +109,8 @@ void Solver<Real>::UpdateGrid(const SubstepContext& context, ContactState* conta
         const SdfSample sample = knife_->Handle(x);
         if (sample.distance_m < 0.0) {
           const Eigen::Vector3d before = v;
-          if (ResolveContact(sample.normal, knife_->motion().VelocityAt(x), friction, use_friction,
-                             &v, &approach)) {
+          if (ResolveContact(sample.normal, knife_->motion().VelocityAt(x), food_at_node().knife_friction,
+                             use_friction, &v, &approach)) {
             if (sense_force) totals->handle_impulse += m * (v - before);
           }
         }

@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include "sim/mpm/contact_materials.h"
 #include "sim/mpm/node_momentum.h"
 #include "sim/mpm/particle_blocks.h"
 #include "sim/mpm/solver.h"
@@ -74,6 +75,8 @@ struct Solver<Real>::Workspace {
   std::atomic<std::int64_t> next_item{0};    // the next stress chunk or block to take
   std::atomic<int> sorted_threads{0};        // threads whose share of the block order is written
   std::uint32_t stamp = 0;
+  ContactMaterials contact_materials;        // each food's friction and speed resistance at the colliders
+  bool contact_materials_ready = false;
 };
 
 // What one substep's team shares beyond the workspace: results the stages hand on, the first

@@ -25,6 +25,7 @@ struct GridTotals {
   Eigen::Vector3d other_impulse = Eigen::Vector3d::Zero();   // gravity, damping, caps
   double mass = 0.0;                                         // kg on the grid
   double approach_speed_sum = 0.0;                           // over blade-contact nodes, m/s
+  double resistance_sum = 0.0;                               // the same, each times its food's k2
   std::int64_t speed_caps = 0;
 
   void Add(const GridTotals& other) {
@@ -35,6 +36,7 @@ struct GridTotals {
     other_impulse += other.other_impulse;
     mass += other.mass;
     approach_speed_sum += other.approach_speed_sum;
+    resistance_sum += other.resistance_sum;
     speed_caps += other.speed_caps;
   }
 };

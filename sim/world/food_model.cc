@@ -26,11 +26,12 @@ mpm::Material ResolveFoodMaterial(const FoodConfig& food, const std::string& fie
     else if (key == "density_kg_m3") material.density_kg_m3 = value;
     else if (key == "yield_stress_pa") material.yield_stress_pa = value;
     else if (key == "friction_coefficient") material.friction_coefficient = value;
+    else if (key == "board_friction_coefficient") material.board_friction_coefficient = value;
     else if (key == "viscoplastic_relaxation_time_s") material.viscoplastic_relaxation_time_s = value;
     else {
       throw SceneError(field + ".material_overrides: unknown key '" + key +
                        "'; use youngs_modulus_pa, poisson_ratio, density_kg_m3, yield_stress_pa, "
-                       "friction_coefficient or viscoplastic_relaxation_time_s");
+                       "friction_coefficient, board_friction_coefficient or viscoplastic_relaxation_time_s");
     }
   }
   try {

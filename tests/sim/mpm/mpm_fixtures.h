@@ -13,7 +13,8 @@ namespace culinarycut::mpm::testing {
 // Fills the box [low, high] with a regular lattice of `per_axis`^3 particles per dx^3 cell.
 template <typename Real>
 void AddBlock(const Eigen::Vector3d& low, const Eigen::Vector3d& high, double dx, int per_axis,
-              double density_kg_m3, Particles<Real>* particles, std::uint16_t object = 0) {
+              double density_kg_m3, Particles<Real>* particles, std::uint16_t object = 0,
+              std::uint16_t material = 0) {
   const double spacing = dx / per_axis;
   const Eigen::Vector3i counts = ((high - low) / spacing).array().round().cast<int>();
   const double volume = spacing * spacing * spacing;
@@ -22,7 +23,7 @@ void AddBlock(const Eigen::Vector3d& low, const Eigen::Vector3d& high, double dx
       for (int k = 0; k < counts.z(); ++k) {
         const Eigen::Vector3d x = low + spacing * (Eigen::Vector3d(i, j, k).array() + 0.5).matrix();
         particles->Add({Real(x.x()), Real(x.y()), Real(x.z())}, Real(density_kg_m3 * volume),
-                       Real(volume), 0, object);
+                       Real(volume), material, object);
       }
     }
   }
