@@ -66,7 +66,11 @@ struct SolverModel {
 
 // The CFL-limited time step of a solver with this model: cfl dx / max over materials of
 // sqrt((lambda + 2 mu) / rho), capped by max_dt_s (s).
+// The CFL time step (s): dt <= cfl dx / c over the materials' wave speeds c, and <= max_dt_s.
 double StableTimestep(const SolverModel& model);
+// The same, and short enough that a collider moving at `collider_speed_m_s` crosses at most a CFL
+// fraction of a cell per substep (a knife faster than sound would otherwise jump past particles).
+double StableTimestep(const SolverModel& model, double collider_speed_m_s);
 
 template <typename Real>
 class Solver {

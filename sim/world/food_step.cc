@@ -45,12 +45,16 @@ FoodStepReport AdvanceFood(const FoodModel& model, const Eigen::Isometry3d& tcp_
   state->awake = true;
 
   mpm::Solver<float>& solver = *state->solver;
-  const int substeps = std::max(1, static_cast<int>(std::ceil(duration_s / solver.StableTimestep())));
-  const double dt_s = duration_s / substeps;
   mpm::RigidMotion motion;
   motion.linear_velocity_m_s = (tcp_end.translation() - tcp_start.translation()) / duration_s;
   const Eigen::AngleAxisd turn(tcp_end.linear() * tcp_start.linear().transpose());
   motion.angular_velocity_rad_s = turn.axis() * (turn.angle() / duration_s);
+  // The fastest point of the knife: the TCP's speed plus the turn at the blade's far end.
+  const double knife_reach_m = 0.5 * model.knife.blade_length_m + model.knife.blade_height_m;
+  const double knife_speed_m_s = motion.linear_velocity_m_s.norm() + motion.angular_velocity_rad_s.norm() * knife_reach_m;
+  const int substeps = std::max(
+      1, static_cast<int>(std::ceil(duration_s / mpm::StableTimestep(*model.solver, knife_speed_m_s))));
+  const double dt_s = duration_s / substeps;
   double resistance_sum = 0.0;  // sum over substeps of k2 c-hat dt (1/(m/s)): the speed resistance
   double kinetic_energy_j = 0.0;
   for (int k = 0; k < substeps; ++k) {

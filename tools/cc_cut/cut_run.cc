@@ -66,7 +66,10 @@ CutSummary RunCut(const CutModel& model, const CutStepCallback& on_step) {
   const Eigen::Matrix3d blade_rotation = BladeAcross(summary.axis_direction);
   const Eigen::Vector3d along_blade = blade_rotation.col(0);
 
-  summary.dt_s = solver.StableTimestep();
+  // Short enough for the fastest the knife goes (descending, lifting or sawing) as well as for sound.
+  const double fastest_knife_m_s = std::max({path.descent_speed_m_s, path.lift_speed_m_s,
+                                             2.0 * M_PI * path.saw_frequency_hz * path.saw_amplitude_m});
+  summary.dt_s = mpm::StableTimestep(*model.food.solver, fastest_knife_m_s);
   const double dt = summary.dt_s;
   KnifeState knife;
   knife.height_m = summary.start_height_m;

@@ -74,7 +74,11 @@ template <typename Real>
 CutResult RunCut(const CutScenario& scenario, Solver<Real>* solver) {
   CutResult result;
   solver->SetKnife(KnifeGeometry{});
-  const double dt = solver->StableTimestep();
+  // Short enough for sound and for the knife's fastest motion (descent, lift or saw).
+  const double fastest_knife_m_s =
+      std::max({scenario.speed_m_s, scenario.lift_speed_m_s,
+                2.0 * M_PI * scenario.saw_frequency_hz * scenario.saw_amplitude_m});
+  const double dt = StableTimestep(SolverModel{solver->config(), solver->materials()}, fastest_knife_m_s);
   double height = scenario.start_height_m;
   double time_s = 0.0;
   bool lifting = false;
