@@ -7,9 +7,14 @@ WORKDIR /opt/culinarycut
 # install_deps.sh needs the pins and the Python package (it installs it into .venv), so the sources come first.
 COPY . .
 RUN bash scripts/install_deps.sh && bash scripts/build.sh
-# The Debian packages that own the libraries the server links, for the runtime stage to install.
-RUN ldd build/server/culinarycut-server | awk '/=> \// {print $3}' | xargs -r realpath | xargs -r dpkg -S 2>/dev/null \
-      | cut -d: -f1 | sort -u > /opt/culinarycut/runtime-packages.txt
+SHELL ["/bin/bash", "-o", "pipefail", "-c"]
+# The Debian packages that own the libraries the server links, for the runtime stage to install
+# (bookworm registers some libraries under /lib and some under /usr/lib: try the path as ldd prints
+# it, then resolved). A library no package owns stops the build.
+RUN for lib in $(ldd build/server/culinarycut-server | awk '/=> \// {print $3}'); do \
+      dpkg -S "$lib" 2>/dev/null || dpkg -S "$(realpath "$lib")" 2>/dev/null \
+        || { echo "no Debian package owns $lib" >&2; exit 1; }; \
+    done | cut -d: -f1 | sort -u > /opt/culinarycut/runtime-packages.txt
 
 FROM debian:bookworm-slim AS server
 COPY --from=build /opt/culinarycut/runtime-packages.txt /tmp/runtime-packages.txt

@@ -10,8 +10,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import platform
 import sqlite3
 import subprocess
 import sys
@@ -21,6 +19,9 @@ from datetime import date
 from pathlib import Path
 
 from culinarycut.launch import ServerProcess, server_binary
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from step_latency import machine_info  # noqa: E402  (the machine description every benchmark writes)
 
 ROOT = Path(__file__).resolve().parents[1]
 # (label, suite, extra arguments): the smoke suite whole, and one trial of each cucumber task of
@@ -74,23 +75,14 @@ def main() -> int:
         finally:
             for server in servers:
                 server.stop()
-    machine = {"cpu_count": os.cpu_count(), "platform": platform.platform(), "processor": _cpu_name(),
+    info = machine_info()
+    machine = {"cpu_count": info["cores"], "platform": info["platform"], "processor": info["cpu_model"],
                "date": date.today().isoformat()}
     out = Path(args.out)
     (out / "suite_throughput.json").write_text(json.dumps({"machine": machine, "results": results}, indent=1))
     (out / "suite_throughput.md").write_text(_markdown(machine, results))
     print(f"wrote {out / 'suite_throughput.md'}")
     return 0
-
-
-def _cpu_name() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor()
 
 
 def _markdown(machine: dict, results: list[dict]) -> str:
