@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <deque>
 #include <cmath>
 
 #include "sim/core/stage_timer.h"
@@ -75,6 +76,9 @@ CutSummary RunCut(const CutModel& model, const CutStepCallback& on_step) {
   knife.height_m = summary.start_height_m;
   knife.settle_left_s = path.settle_s;
   double collider_impulse_sum = 0.0;
+  std::deque<std::pair<double, Eigen::Vector3d>> window;  // (dt, blade impulse) of the last substeps
+  Eigen::Vector3d window_impulse_n_s = Eigen::Vector3d::Zero();
+  double window_s = 0.0;
   double time_s = 0.0;
   double substep_ms = 0.0;
   while (true) {
@@ -113,11 +117,21 @@ CutSummary RunCut(const CutModel& model, const CutStepCallback& on_step) {
     summary.p2g_ms += d.p2g_ms;
     summary.grid_ms += d.grid_ms;
     summary.g2p_ms += d.g2p_ms;
-    const double blade_force_n = d.force_on_blade_n.norm();
-    if (blade_force_n > summary.peak_blade_force_n) {
-      summary.peak_blade_force_n = blade_force_n;
+    // The force over the accumulation window: the blade's impulse over the last window / the window.
+    window.push_back({dt, d.force_on_blade_n * dt});
+    window_impulse_n_s += d.force_on_blade_n * dt;
+    window_s += dt;
+    while (window.size() > 1 && window_s - window.front().first >= path.force_window_s) {
+      window_s -= window.front().first;
+      window_impulse_n_s -= window.front().second;
+      window.pop_front();
+    }
+    const double windowed_force_n = window_impulse_n_s.norm() / window_s;  // the first window: so far
+    if (windowed_force_n > summary.peak_blade_force_n) {
+      summary.peak_blade_force_n = windowed_force_n;
       summary.peak_blade_force_time_s = time_s;
     }
+    summary.peak_substep_blade_force_n = std::max(summary.peak_substep_blade_force_n, d.force_on_blade_n.norm());
     summary.blade_impulse_n_s += d.force_on_blade_n * dt;
     summary.external_impulse_n_s += d.external_impulse_n_s;
     summary.momentum_change_n_s += d.momentum_change_n_s;

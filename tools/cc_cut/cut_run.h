@@ -42,8 +42,9 @@ struct CutSummary {
   bool hit_time_limit = false;
   std::vector<mpm::Piece> pieces;
   std::vector<double> cut_positions_m;  // along the axis from axis_origin_m
-  double peak_blade_force_n = 0.0;      // largest |force on blade|
+  double peak_blade_force_n = 0.0;      // largest |force on blade| over the accumulation window
   double peak_blade_force_time_s = 0.0;
+  double peak_substep_blade_force_n = 0.0;  // largest of a single substep (the sawtooth's tips)
   // Momentum balance over the run: the sum of the external impulses the solver reports (colliders,
   // gravity, tip force) against the food's momentum change, and their mismatch relative to the
   // collider impulse magnitude summed over substeps.

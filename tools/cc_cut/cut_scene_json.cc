@@ -74,6 +74,7 @@ void ReadKnife(const json& object, KnifePath* knife) {
   reader.Number("saw_frequency_hz", &knife->saw_frequency_hz, NonNegative());
   reader.Number("lift_speed_m_s", &knife->lift_speed_m_s, HalfOpenInterval(0.0, 20.0));
   reader.Number("settle_s", &knife->settle_s, NonNegative());
+  reader.Number("force_window_s", &knife->force_window_s, HalfOpenInterval(0.0, 1.0));
   reader.Bool("apply_speed_resistance", &knife->apply_speed_resistance);
   reader.Number("min_speed_fraction", &knife->min_speed_fraction, HalfOpenInterval(0.0, 1.0));
   reader.Number("max_time_s", &knife->max_time_s, Positive());
@@ -122,6 +123,7 @@ json KnifeJson(const KnifePath& k) {
                 {"saw_frequency_hz", k.saw_frequency_hz},
                 {"lift_speed_m_s", k.lift_speed_m_s},
                 {"settle_s", k.settle_s},
+                {"force_window_s", k.force_window_s},
                 {"apply_speed_resistance", k.apply_speed_resistance},
                 {"min_speed_fraction", k.min_speed_fraction},
                 {"max_time_s", k.max_time_s}};

@@ -21,6 +21,9 @@ struct KnifePath {
   double saw_frequency_hz = 0.0;
   double lift_speed_m_s = 1.0;  // back up to the start height after the descent
   double settle_s = 0.02;       // simulated after the knife is back up
+  // The paper's output-accumulation window: the blade force is also reported as the impulse over
+  // this window divided by it, which removes the sawtooth of the edge crossing cells.
+  double force_window_s = 0.005;
   // Slow the descent by the solver's knife_speed_factor (quadratic speed resistance), never below
   // min_speed_fraction of descent_speed_m_s.
   bool apply_speed_resistance = false;
