@@ -1,5 +1,7 @@
 #include "server/session_manager.h"
 
+#include <malloc.h>
+
 #include <sys/random.h>
 
 #include <algorithm>
@@ -98,6 +100,8 @@ std::uint64_t SessionManager::memory_reserved_bytes() const {
   return memory_reserved_bytes_;
 }
 
+void ReturnFreedMemory() { malloc_trim(0); }
+
 std::vector<std::string> SessionManager::ReapIdle(std::chrono::steady_clock::time_point now) {
   std::vector<std::string> reaped;
   std::lock_guard<std::mutex> lock(mutex_);
@@ -132,9 +136,11 @@ void SessionManager::ReaperLoop() {
   std::unique_lock<std::mutex> lock(mutex_);
   while (!stop_signal_.wait_for(lock, period, [this] { return stopping_; })) {
     lock.unlock();
-    for (const std::string& id : ReapIdle(std::chrono::steady_clock::now())) {
+    const std::vector<std::string> reaped = ReapIdle(std::chrono::steady_clock::now());
+    for (const std::string& id : reaped) {
       spdlog::info("session {} closed after {:.0f} s idle (client gone?)", id, idle_timeout_.count());
     }
+    if (!reaped.empty()) ReturnFreedMemory();
     lock.lock();
   }
 }

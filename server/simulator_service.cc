@@ -168,6 +168,8 @@ grpc::Status SimulatorService::CloseSession(grpc::ServerContext* context, const 
   }
   sessions_->Close(session->id);
   spdlog::info("session {} closed ({} sessions live)", session->id, sessions_->size());
+  session.reset();
+  ReturnFreedMemory();
   return grpc::Status::OK;
 }
 
