@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs every Debian package CulinaryCut needs (Debian 12 bookworm). Idempotent, non-interactive.
+# Installs every Debian package CulinaryCut needs (Debian 12 bookworm); with --tests also those only the
+# test suite needs. Idempotent, non-interactive.
 # Runs apt as root, or through sudo when not root.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -16,15 +17,15 @@ PACKAGES=(
   libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri libopencv-dev libassimp-dev
   # tests and benchmarks
   catch2 libbenchmark-dev
-  # the HTML benchmark report is checked in a real headless browser
-  chromium chromium-driver python3-selenium
-  # fuzz targets: clang with libFuzzer and the sanitizers
-  clang libclang-rt-14-dev libomp-14-dev
   # Python client: Debian's packages, plus a project virtualenv for what Debian lacks (requirements/pypi.txt)
   python3 python3-venv python3-grpcio python3-grpc-tools python3-protobuf python3-numpy python3-zmq python3-pytest python3-opencv python3-jsonschema
   # plots in benchmarks, docs and examples
   python3-matplotlib python3-pil
 )
+# Only the test suite needs these (scripts/test.sh passes --tests): the HTML benchmark report is
+# checked in a real headless browser, and the fuzz targets build with clang, libFuzzer and sanitizers.
+TEST_PACKAGES=(chromium chromium-driver python3-selenium clang libclang-rt-14-dev libomp-14-dev)
+if [ "${1:-}" = "--tests" ]; then PACKAGES+=("${TEST_PACKAGES[@]}"); fi
 
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi

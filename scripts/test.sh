@@ -3,7 +3,7 @@
 # (pytest against the real server binary), all through ctest.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-"$root/scripts/install_deps.sh"
+"$root/scripts/install_deps.sh" --tests
 "$root/scripts/build.sh"
 cd "$root/build"
 ctest --output-on-failure -j "${CULINARYCUT_JOBS:-$(nproc)}"

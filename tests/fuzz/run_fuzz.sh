@@ -8,7 +8,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
 seconds="${1:-30}"
 build="$root/build-fuzz"
-command -v clang++ >/dev/null || { echo "run_fuzz: clang++ is missing (scripts/install_deps.sh installs it)"; exit 1; }
+command -v clang++ >/dev/null || { echo "run_fuzz: clang++ is missing (scripts/install_deps.sh --tests installs it)"; exit 1; }
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DCULINARYCUT_FUZZ=ON \
   -DCULINARYCUT_BUILD_TESTS=OFF -DCULINARYCUT_BUILD_BENCH=OFF >/dev/null
 cmake --build "$build" -j "${CULINARYCUT_JOBS:-$(nproc)}" --target fuzz_scene fuzz_snapshot fuzz_action
