@@ -81,7 +81,8 @@ def run_episode(spec: EpisodeSpec, server: str, options: EpisodeOptions) -> Epis
     row.update(policy=options.policy, policy_options=json.dumps(options.policy_options, sort_keys=True),
                server=server, outcome="error", end_reason="", error="", steps=0, sim_time_s=0.0,
                peak_force_n=0.0, peak_speed_m_s=0.0, pieces=0, instruction="", resolved_scene="",
-               env_wall_s=0.0, policy_wall_s=0.0, stage_wall_s="{}", **_score_fields(None))
+               env_wall_s=0.0, policy_wall_s=0.0, stage_wall_s="{}", server_version="", build_id="",
+               policy_version="", **_score_fields(None))
     trace: dict[str, list] = {"time_s": [], "force_n": [], "speed_m_s": [], "tcp_z_m": []}
     frames: list = []
     try:
@@ -96,9 +97,6 @@ def run_episode(spec: EpisodeSpec, server: str, options: EpisodeOptions) -> Epis
     except CulinaryCutError as err:
         row.update(outcome="error", end_reason="server_error", error=f"{err.code.name}: {err.details}"[:2000])
     row["wall_s"] = time.perf_counter() - started
-    row.setdefault("server_version", "")
-    row.setdefault("build_id", "")
-    row.setdefault("policy_version", "")
     return EpisodeResult(row=row, trace=trace, frames=frames)
 
 
