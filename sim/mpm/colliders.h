@@ -33,10 +33,10 @@ struct KnifeGeometry {
   double blade_height_m = 0.045;    // spine to edge, along z
   double blade_thickness_m = 0.002; // along y, at the spine
   double bevel_height_m = 0.008;    // the bottom part that tapers to a sharp edge
-  // SDF thickness is at least this many grid cells. 0: the blade's own thickness, however thin against dx: the
-  // two-sided (CPIC) treatment keeps particles from leaking through it, and a grid-thick blade made the
-  // displaced material, and so the force, follow dx (docs/mpm.md, "Blade thickness").
-  double min_thickness_cells = 0.0;
+  // SDF thickness is at least this many grid cells. One cell is enough with the two-sided blade and keeps the
+  // cut gap near one cell; the blade's own 2 mm (0) makes the force follow dx less but does not yet always
+  // separate the food at the draft grid (docs/mpm.md, "Blade thickness").
+  double min_thickness_cells = 1.0;
   Eigen::Vector3d handle_size_m{0.11, 0.02, 0.025};        // box behind the heel
   Eigen::Vector3d handle_center_in_tcp_m{-0.155, 0.0, -0.03};
 };
