@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "sim/mpm/speed_resistance.h"
+
 namespace culinarycut {
 namespace {
 
@@ -66,7 +68,7 @@ FoodStepReport AdvanceFood(const FoodModel& model, const Eigen::Isometry3d& tcp_
     solver.SetKnifeMotion(motion);
     const mpm::SubstepDiagnostics d = solver.Substep(dt_s);
     state->wrench.force_n += (d.force_on_blade_n + d.force_on_handle_n) * (dt_s / duration_s);
-    resistance_sum += 1.0 / d.knife_speed_factor - 1.0;
+    resistance_sum += mpm::SubstepResistance(d);
     report.max_c_hat = std::max(report.max_c_hat, d.c_hat);
     report.contact = report.contact || d.c_hat > 0.0 || d.force_on_blade_n.squaredNorm() > 0.0;
     kinetic_energy_j = d.kinetic_energy_j;
@@ -75,10 +77,9 @@ FoodStepReport AdvanceFood(const FoodModel& model, const Eigen::Isometry3d& tcp_
   state->substeps += substeps;
   state->mpm_time_s += duration_s;
   state->particle_bounds = ParticleBounds(solver.particles());
-  // The factor is 1 / (1 + k2 c-hat u dt) per substep at u = 1 m/s; at the knife's own speed u the
-  // step's slow-down is u / (1 + u sum(k2 c-hat dt)).
+  // At the knife's own speed u (m/s) the step's slow-down is u / (1 + u sum(k2 c-hat dt)).
   const double speed_m_s = motion.linear_velocity_m_s.norm();
-  state->knife_speed_factor = 1.0 / (1.0 + speed_m_s * resistance_sum);
+  state->knife_speed_factor = mpm::SpeedResistanceFactor(speed_m_s, resistance_sum);
 
   // Sleep again once the knife has gone and the food has come to rest.
   const double rms_speed_m_s = std::sqrt(2.0 * kinetic_energy_j / TotalMass(solver.particles()));

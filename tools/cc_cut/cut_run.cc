@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "sim/core/stage_timer.h"
+#include "sim/mpm/speed_resistance.h"
 #include "sim/task/object_box.h"
 #include "sim/world/food_state.h"
 
@@ -150,10 +151,11 @@ CutSummary RunCut(const CutModel& model, const CutStepCallback& on_step) {
     if (knife.phase == KnifeState::Phase::kDescending) {
       knife.height_m += vz_m_s * dt;
       if (path.apply_speed_resistance && d.knife_speed_factor < 1.0) {
-        // The solver's factor is 1 / (1 + k c u dt) at u = 1; apply it at the current speed u.
-        const double k_c_dt = 1.0 / d.knife_speed_factor - 1.0;
+        // The same model and units (m/s) as the world's.
+        const double speed_m_s = path.descent_speed_m_s * knife.speed_fraction;
         knife.speed_fraction = std::max(
-            path.min_speed_fraction, knife.speed_fraction / (1.0 + k_c_dt * knife.speed_fraction));
+            path.min_speed_fraction,
+            knife.speed_fraction * mpm::SpeedResistanceFactor(speed_m_s, mpm::SubstepResistance(d)));
         summary.min_speed_factor = std::min(summary.min_speed_factor, knife.speed_fraction);
       }
       if (knife.height_m <= summary.end_height_m) knife.phase = KnifeState::Phase::kLifting;
