@@ -41,6 +41,16 @@ def rows(folder: Path) -> list[dict]:
         db.close()
 
 
+def rows_so_far(folder: Path) -> list[dict]:
+    """Rows of a run in progress: the runner may have created the file but not yet its tables."""
+    try:
+        return rows(folder)
+    except sqlite3.OperationalError as error:
+        if "no such table" in str(error):
+            return []
+        raise
+
+
 def outcomes(folder: Path) -> list[tuple]:
     return [tuple(r[c] for c in OUTCOME_COLUMNS) for r in rows(folder)]
 
@@ -48,7 +58,7 @@ def outcomes(folder: Path) -> list[tuple]:
 def wait_for_rows(folder: Path, count: int, proc: subprocess.Popen, timeout_s: float = 300) -> None:
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline:
-        if (folder / "results.sqlite").exists() and len(rows(folder)) >= count:
+        if (folder / "results.sqlite").exists() and len(rows_so_far(folder)) >= count:
             return
         assert proc.poll() is None, "the runner ended before it was stopped"
         time.sleep(0.2)
