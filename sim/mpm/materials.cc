@@ -11,7 +11,7 @@ namespace {
 // the board is chosen equal to the knife's until it is measured.
 std::vector<Material> Presets() {
   auto make = [](const char* name, double E_pa, double nu, double rho, double yield_pa,
-                 double friction, const char* source) {
+                 double friction, double toughness_j_m2, const char* source) {
     Material m;
     m.name = name;
     m.youngs_modulus_pa = E_pa;
@@ -20,27 +20,34 @@ std::vector<Material> Presets() {
     m.yield_stress_pa = yield_pa;
     m.friction_coefficient = friction;
     m.board_friction_coefficient = friction;
+    m.fracture_toughness_j_m2 = toughness_j_m2;
     m.source = source;
     return m;
   };
   return {
-      make("apple", 3.0e6, 0.17, 787.0, 0.35e6, 0.5,
+      make("apple", 3.0e6, 0.17, 787.0, 0.35e6, 0.5, 200.0,
            "E 3.0 MPa as simulated by DiSECt (NVlabs); nu 0.17, rho 787 kg/m^3; failure stress "
-           "0.32-0.37 MPa (Chakespari et al.)"),
-      make("cucumber", 2.5e6, 0.37, 1000.0, 0.3e6, 0.5,
-           "E 2.5 MPa, nu 0.37, rho 940-1100 kg/m^3, friction 0.5 (Jamdagni & Jia, IROS 2019); "
-           "yield chosen"),
-      make("banana", 0.5e6, 0.35, 950.0, 0.08e6, 0.4,
-           "chosen: E in the unverified 0.1-1 MPa range of the food-texture literature"),
-      make("strawberry", 0.3e6, 0.35, 900.0, 0.05e6, 0.4,
-           "chosen: E in the unverified 0.1-1 MPa range of the food-texture literature"),
-      make("peach", 1.5e6, 0.3, 950.0, 0.2e6, 0.5,
-           "chosen: E in the unverified 0.5-5 MPa range of the food-texture literature"),
-      make("melon", 2.0e6, 0.3, 930.0, 0.25e6, 0.5,
-           "chosen: E in the unverified 0.5-5 MPa range of the food-texture literature"),
-      make("orange", 1.0e6, 0.3, 950.0, 0.15e6, 0.5,
-           "chosen: E in the unverified 0.5-5 MPa range of the food-texture literature"),
-      make("generic", 0.5e6, 0.3, 1000.0, 0.0, 0.5,
+           "0.32-0.37 MPa (Chakespari et al.); toughness chosen, above cucumber's"),
+      make("cucumber", 2.5e6, 0.37, 1000.0, 0.3e6, 0.5, 125.0,
+           "E 2.5 MPa, nu 0.37, rho 940-1100 kg/m^3, toughness 125 J/m^2, friction 0.5 (Jamdagni & "
+           "Jia, IROS 2019); yield chosen"),
+      make("potato", 2.0e6, 0.45, 630.0, 0.3e6, 0.6, 75.0,
+           "E 2.0 MPa, nu 0.45, toughness 75 J/m^2, friction 0.6 (Jamdagni & Jia, IROS 2019); rho 630 "
+           "kg/m^3 as simulated by DiSECt (NVlabs); yield chosen"),
+      make("tomato", 0.4e6, 0.3, 1000.0, 0.1e6, 0.5, 130.0,
+           "E 0.4 MPa, nu 0.3, toughness 130 J/m^2, puncture strength 100 kPa (Jamdagni & Jia, IROS "
+           "2019); rho, yield and friction chosen"),
+      make("banana", 0.5e6, 0.35, 950.0, 0.08e6, 0.4, 60.0,
+           "chosen: E in the unverified 0.1-1 MPa range of the food-texture literature; toughness chosen"),
+      make("strawberry", 0.3e6, 0.35, 900.0, 0.05e6, 0.4, 50.0,
+           "chosen: E in the unverified 0.1-1 MPa range of the food-texture literature; toughness chosen"),
+      make("peach", 1.5e6, 0.3, 950.0, 0.2e6, 0.5, 100.0,
+           "chosen: E in the unverified 0.5-5 MPa range of the food-texture literature; toughness chosen"),
+      make("melon", 2.0e6, 0.3, 930.0, 0.25e6, 0.5, 150.0,
+           "chosen: E in the unverified 0.5-5 MPa range of the food-texture literature; toughness chosen"),
+      make("orange", 1.0e6, 0.3, 950.0, 0.15e6, 0.5, 100.0,
+           "chosen: E in the unverified 0.5-5 MPa range of the food-texture literature; toughness chosen"),
+      make("generic", 0.5e6, 0.3, 1000.0, 0.0, 0.5, 100.0,
            "chosen: a soft elastic solid in the middle of the paper's 0.1-0.9 MPa sweep"),
   };
 }
@@ -75,6 +82,10 @@ void ValidateMaterial(const Material& material) {
   }
   if (!(material.board_friction_coefficient >= 0.0 && std::isfinite(material.board_friction_coefficient))) {
     throw std::invalid_argument(where + "board_friction_coefficient must be >= 0");
+  }
+  // Tough plant tissue is below 1 kJ/m^2; far above that the knife could not cut at all.
+  if (!(material.fracture_toughness_j_m2 >= 0.0 && material.fracture_toughness_j_m2 <= 1e4)) {
+    throw std::invalid_argument(where + "fracture_toughness_j_m2 must be in [0, 1e4] J/m^2");
   }
 }
 

@@ -18,6 +18,11 @@ struct Material {
   double viscoplastic_relaxation_time_s = 0.0;
   double friction_coefficient = 0.5;        // Coulomb, the knife (blade and handle) against this food
   double board_friction_coefficient = 0.5;  // Coulomb, the board and the table against this food
+  // Fracture toughness G_c, J/m^2: the energy to open a unit area of cut. The knife's edge pushes
+  // on the food with at most G_c per metre of edge in it (Atkins, "The Science and Engineering of
+  // Cutting": F = G_c L + friction), so this, not dx, sets the edge's share of the force. 0: no edge
+  // resistance (the blade's faces alone push back).
+  double fracture_toughness_j_m2 = 100.0;
   std::string source;                 // where the numbers come from
 
   double shear_modulus_pa() const { return youngs_modulus_pa / (2.0 * (1.0 + poisson_ratio)); }

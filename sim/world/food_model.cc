@@ -28,10 +28,12 @@ mpm::Material ResolveFoodMaterial(const FoodConfig& food, const std::string& fie
     else if (key == "friction_coefficient") material.friction_coefficient = value;
     else if (key == "board_friction_coefficient") material.board_friction_coefficient = value;
     else if (key == "viscoplastic_relaxation_time_s") material.viscoplastic_relaxation_time_s = value;
+    else if (key == "fracture_toughness_j_m2") material.fracture_toughness_j_m2 = value;
     else {
       throw SceneError(field + ".material_overrides: unknown key '" + key +
                        "'; use youngs_modulus_pa, poisson_ratio, density_kg_m3, yield_stress_pa, "
-                       "friction_coefficient, board_friction_coefficient or viscoplastic_relaxation_time_s");
+                       "friction_coefficient, board_friction_coefficient, viscoplastic_relaxation_time_s or "
+                       "fracture_toughness_j_m2");
     }
   }
   try {
@@ -130,7 +132,7 @@ FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout)
   food_model.topology_update = config.effects.topology;
   food_model.topology.link_distance_m = 0.75 * resolution.dx_m;
   food_model.topology.min_piece_particles = 20;
-  food_model.topology.separate_blade_sides = false;  // damage alone separates pieces
+  food_model.topology.separate_blade_sides = false;  // pieces part by the cut record and damage, not by transient labels
   food_model.particle_spacing_m = resolution.dx_m / std::cbrt(static_cast<double>(resolution.particles_per_cell));
 
   mpm::SamplingOptions sampling;

@@ -32,6 +32,8 @@ json MaterialJson(const mpm::Material& m) {
           {"yield_stress_pa", m.yield_stress_pa},
           {"viscoplastic_relaxation_time_s", m.viscoplastic_relaxation_time_s},
           {"friction_coefficient", m.friction_coefficient},
+          {"board_friction_coefficient", m.board_friction_coefficient},
+          {"fracture_toughness_j_m2", m.fracture_toughness_j_m2},
           {"dilatational_wave_speed_m_s", m.dilatational_wave_speed_m_s()},
           {"source", m.source}};
 }
@@ -134,7 +136,7 @@ json ResultJson(const CutSummary& s) {
 
 void WriteStepsHeader(std::ostream& out) {
   out << "step,t_s,dt_s,knife_z_m,knife_vx_m_s,knife_vy_m_s,knife_vz_m_s,"
-         "blade_fx_n,blade_fy_n,blade_fz_n,handle_fx_n,handle_fy_n,handle_fz_n,"
+         "blade_fx_n,blade_fy_n,blade_fz_n,edge_fx_n,edge_fy_n,edge_fz_n,handle_fx_n,handle_fy_n,handle_fz_n,"
          "board_fx_n,board_fy_n,board_fz_n,table_fx_n,table_fy_n,table_fz_n,"
          "c_hat,speed_factor,j_min,j_max,j_clamps,speed_caps,damaged,"
          "kinetic_energy_j,elastic_energy_j,momentum_residual\n";
@@ -148,6 +150,7 @@ void WriteStepRow(const CutStepRecord& record, std::ostream& out) {
   Number(record.knife_height_m, out);
   Vector(d.knife_velocity_m_s, out);
   Vector(d.force_on_blade_n, out);
+  Vector(d.force_on_edge_n, out);
   Vector(d.force_on_handle_n, out);
   Vector(d.force_on_board_n, out);
   Vector(d.force_on_table_n, out);
