@@ -33,13 +33,21 @@ Matrix3<Real> PolarRotation(const Matrix3<Real>& F) {
   return X;
 }
 
-// Lame parameters after damage: both scale by (1 - D) (paper: damage "linearly reduces the
-// effective moduli").
 template <typename Real>
 struct Lame {
   Real mu;      // Pa
   Real lambda;  // Pa
 };
+
+// Lame parameters after damage D: the paper's damage "linearly reduces the effective moduli", here
+// of shear and of volume growth only; a compressed particle (J < 1) keeps its bulk stiffness, as in
+// the volumetric-deviatoric split of Amor, Marigo & Maurini (2009), so that food under the edge is
+// not crushed to the J clamp once it is damaged.
+template <typename Real>
+Lame<Real> DamagedLame(Real mu_pa, Real lambda_pa, Real damage, Real J) {
+  const Real scale = Real(1) - damage;
+  return {mu_pa * scale, J < Real(1) ? lambda_pa : lambda_pa * scale};
+}
 
 // Kirchhoff stress tau = P F^T of corotated elasticity, P = 2 mu (F - R) + lambda (J - 1) J F^-T
 // (paper eq. corot_simple), so tau = 2 mu (F - R) F^T + lambda (J - 1) J I.

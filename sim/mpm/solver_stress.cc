@@ -63,10 +63,9 @@ double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context, std::s
     for (int k = 0; k < 9; ++k) F(k / 3, k % 3) = p.F[k][q];
     const Material& material = materials()[p.material[q]];
     plastic_return(q, R, &F);
-    const Real damage_scale = Real(1) - p.damage[q];
-    const Lame<Real> lame{Real(material.shear_modulus_pa()) * damage_scale,
-                          Real(material.lame_lambda_pa()) * damage_scale};
     const Real J = F.determinant();
+    const Lame<Real> lame = DamagedLame(Real(material.shear_modulus_pa()), Real(material.lame_lambda_pa()),
+                                        p.damage[q], J);
     const Matrix3<Real> tau = CorotatedKirchhoffStress(F, R, J, lame);
     const Real volume_scale = stress_scale * p.volume[q];
     const Real m = p.mass[q];
@@ -109,7 +108,8 @@ double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context, std::s
     std::size_t q = c * kChunk;
     for (; q + kLanes <= end_q; q += kLanes) {
       Real F_lanes[9][kLanes], R_lanes[9][kLanes], C_lanes[9][kLanes], affine_lanes[9][kLanes];
-      Real mu[kLanes], lambda[kLanes], volume_scale[kLanes], mass[kLanes], volume[kLanes];
+      Real mu[kLanes], lambda[kLanes], lambda_undamaged[kLanes], volume_scale[kLanes], mass[kLanes],
+          volume[kLanes];
       Real yield_strain_sq[kLanes], green_sq[kLanes], energy[kLanes];
       // 18 streams of F and C: more than the hardware prefetcher follows, so ask ahead.
       for (int k = 0; k < 9; ++k) {
@@ -127,6 +127,7 @@ double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context, std::s
         const Real damage_scale = Real(1) - p.damage[q + l];
         mu[l] = material.mu * damage_scale;
         lambda[l] = material.lambda * damage_scale;
+        lambda_undamaged[l] = material.lambda;
         volume[l] = p.volume[q + l];
         volume_scale[l] = stress_scale * volume[l];
         mass[l] = p.mass[q + l];
@@ -146,7 +147,7 @@ double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context, std::s
           for (int k = 0; k < 9; ++k) F_lanes[k][l] = F(k / 3, k % 3);
         }
       }
-      CorotatedAffineBatch<Real, kLanes>(F_lanes, R_lanes, C_lanes, mu, lambda, volume_scale, mass,
+      CorotatedAffineBatch<Real, kLanes>(F_lanes, R_lanes, C_lanes, mu, lambda, lambda_undamaged, volume_scale, mass,
                                          volume, affine_lanes, energy);
       transfer_values(q, affine_lanes);
       for (int l = 0; l < kLanes; ++l) chunk_energy += energy[l];

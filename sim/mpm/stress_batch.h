@@ -29,10 +29,12 @@ void DeviatoricGreenStrainSquared(const Real (&F)[9][W], Real (&out)[W]) {
 }
 
 // affine = volume_scale * tau + m C with tau = 2 mu (F - R) F^T + lambda (J - 1) J I, and the
-// elastic energy volume * (mu |F - R|^2 + lambda / 2 (J - 1)^2), per lane.
+// elastic energy volume * (mu |F - R|^2 + lambda / 2 (J - 1)^2), per lane. lambda is
+// `lambda_compressed` where J < 1 and `lambda_stretched` elsewhere (damage keeps compression).
 template <typename Real, int W>
 void CorotatedAffineBatch(const Real (&F)[9][W], const Real (&R)[9][W], const Real (&C)[9][W],
-                          const Real (&mu)[W], const Real (&lambda)[W],
+                          const Real (&mu)[W], const Real (&lambda_stretched)[W],
+                          const Real (&lambda_compressed)[W],
                           const Real (&volume_scale)[W], const Real (&mass)[W],
                           const Real (&volume)[W], Real (&affine)[9][W], Real (&energy)[W]) {
   for (int l = 0; l < W; ++l) {
@@ -45,7 +47,8 @@ void CorotatedAffineBatch(const Real (&F)[9][W], const Real (&R)[9][W], const Re
     const Real J = F[0][l] * (F[4][l] * F[8][l] - F[5][l] * F[7][l]) -
                    F[1][l] * (F[3][l] * F[8][l] - F[5][l] * F[6][l]) +
                    F[2][l] * (F[3][l] * F[7][l] - F[4][l] * F[6][l]);
-    const Real pressure = lambda[l] * (J - Real(1)) * J;
+    const Real lambda = J < Real(1) ? lambda_compressed[l] : lambda_stretched[l];
+    const Real pressure = lambda * (J - Real(1)) * J;
     for (int a = 0; a < 3; ++a) {
       for (int b = 0; b < 3; ++b) {
         const Real DFt = D[3 * a] * F[3 * b][l] + D[3 * a + 1] * F[3 * b + 1][l] +
@@ -54,7 +57,7 @@ void CorotatedAffineBatch(const Real (&F)[9][W], const Real (&R)[9][W], const Re
         affine[3 * a + b][l] = volume_scale[l] * tau + mass[l] * C[3 * a + b][l];
       }
     }
-    energy[l] = volume[l] * (mu[l] * norm + Real(0.5) * lambda[l] * (J - Real(1)) * (J - Real(1)));
+    energy[l] = volume[l] * (mu[l] * norm + Real(0.5) * lambda * (J - Real(1)) * (J - Real(1)));
   }
 }
 
