@@ -40,6 +40,7 @@ void ForEachParticleArray(P& p, S& spare, B& blocks, F&& f) {
   f(p.damage, spare.damage);
   f(p.piece, spare.piece);
   f(p.blade_side, spare.blade_side);
+  f(p.cut_sides, spare.cut_sides);
   f(p.material, spare.material);
   f(p.object, spare.object);
   f(blocks.block_of, blocks.block_of_spare);

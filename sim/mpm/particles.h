@@ -28,6 +28,7 @@ struct Particles {
   std::vector<Real> damage;                    // D in [0, 1]; scales the Lame parameters by 1 - D
   std::vector<std::int32_t> piece;             // connected-piece label from topology (-1: none yet)
   std::vector<std::int8_t> blade_side;         // BladeSide
+  std::vector<std::uint32_t> cut_sides;        // which side of each past cut (cut_record.h)
   std::vector<std::uint16_t> material;         // index into the solver's material table
   std::vector<std::uint16_t> object;           // index of the food object it was sampled from
 
@@ -50,6 +51,7 @@ struct Particles {
     damage.push_back(Real(0));
     piece.push_back(-1);
     blade_side.push_back(static_cast<std::int8_t>(BladeSide::kUnassigned));
+    cut_sides.push_back(0u);
     material.push_back(material_id);
     object.push_back(object_id);
   }

@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include "sim/mpm/cut_record.h"
+
 namespace culinarycut::mpm {
 namespace {
 
@@ -99,6 +101,7 @@ struct SortedParticles {
   std::vector<Real> x, y, z;
   std::vector<std::uint16_t> object;
   std::vector<std::int8_t> side;
+  std::vector<std::uint32_t> cuts;  // cut records (cut_record.h)
   std::vector<std::uint32_t> cell_start;  // per cell id, plus one past the end
 };
 
@@ -117,7 +120,7 @@ inline bool Linked(const SortedParticles<Real>& s, std::uint32_t a, std::uint32_
                    Real link_distance_sq) {
   const Real dx = s.x[b] - s.x[a], dy = s.y[b] - s.y[a], dz = s.z[b] - s.z[a];
   return dx * dx + dy * dy + dz * dz < link_distance_sq && s.object[b] == s.object[a] &&
-         s.side[a] * s.side[b] >= 0;
+         s.side[a] * s.side[b] >= 0 && SameSideOfEveryCut(s.cuts[a], s.cuts[b]);
 }
 
 // Links the particles of one cell among themselves. Returns a slot that every particle of the
@@ -306,6 +309,7 @@ std::vector<Piece> DetectPieces(const TopologyOptions& options, Particles<Real>*
   s.z.resize(m);
   s.object.resize(m);
   s.side.resize(m);
+  s.cuts.resize(m);
   for (std::size_t k = 0; k < m; ++k) {
     const std::int32_t i = ws.active[k];
     const std::uint32_t slot = ws.cursor[ws.cell_of[k]]++;
@@ -315,6 +319,7 @@ std::vector<Piece> DetectPieces(const TopologyOptions& options, Particles<Real>*
     s.z[slot] = p.position[2][i];
     s.object[slot] = p.object[i];
     s.side[slot] = options.separate_blade_sides ? p.blade_side[i] : std::int8_t{0};
+    s.cuts[slot] = options.separate_cut_sides ? p.cut_sides[i] : 0u;
   }
 
   // Union-find over sorted slots (cache-friendly); the partition does not depend on the order.

@@ -1,6 +1,7 @@
 // Topology: which particles still hold together. Connected components over particles that are
-// close (within a link distance) and not broken (damage below a threshold), giving the pieces an
-// object has been cut into and where the cuts lie along its long axis.
+// close (within a link distance), not broken (damage below a threshold) and not parted by a cut
+// (cut_record.h), giving the pieces an object has been cut into and where the cuts lie along its
+// long axis.
 #pragma once
 
 #include <cstdint>
@@ -17,6 +18,7 @@ struct TopologyOptions {
   double broken_damage = 0.9;       // particles with D >= this link to nobody
   int min_piece_particles = 1;      // smaller components are labelled -1 (crumbs), not pieces
   bool separate_blade_sides = true; // particles on opposite blade sides (CPIC labels) never link
+  bool separate_cut_sides = true;   // particles a past cut put on opposite sides never link again
 };
 
 struct Piece {

@@ -116,6 +116,7 @@ void CheckFood(const Model& model, const State& state) {
     Require(p.damage[i] >= 0 && p.damage[i] <= 1, "food.damage", "must lie in [0, 1]");
     Require(p.piece[i] >= -1, "food.piece", "must be a label >= -1");
     Require(p.blade_side[i] >= -1 && p.blade_side[i] <= 1, "food.blade_side", "must be -1, 0 or 1");
+    Require(mpm::ValidCutRecord(p.cut_sides[i]), "food.cut_sides", "sets a side for a cut the particle never passed");
     Require(p.material[i] < materials, "food.material", "indexes no material of the scene");
     Require(p.object[i] < objects, "food.object", "indexes no food object of the scene");
   }

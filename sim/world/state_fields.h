@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 
 #include "sim/world/model.h"
@@ -45,6 +46,7 @@ void VisitParticles(Archive& archive, ParticlesT& p, std::size_t count) {
   archive.Array("food.damage", p.damage, count);
   archive.Array("food.piece", p.piece, count);
   archive.Array("food.blade_side", p.blade_side, count);
+  archive.Array("food.cut_sides", p.cut_sides, count);
   archive.Array("food.material", p.material, count);
   archive.Array("food.object", p.object, count);
 }
@@ -71,6 +73,17 @@ void VisitFood(Archive& archive, const Model& model, FoodState& food) {
   std::uint64_t solver_substeps = food.solver->substeps_taken();  // decides the next reordering
   archive.Scalar("food.solver_substeps", solver_substeps);
   if constexpr (Archive::kReading) food.solver->RestoreSubstepsTaken(solver_substeps);
+  mpm::CutProgress cuts = food.solver->cut_progress();
+  archive.Scalar("food.cuts.made", cuts.cuts_made);
+  archive.Scalar("food.cuts.current", cuts.current);
+  archive.Scalar("food.cuts.blade_in_food", cuts.blade_in_food);
+  if constexpr (Archive::kReading) {
+    try {
+      food.solver->RestoreCutProgress(cuts);
+    } catch (const std::invalid_argument& error) {
+      throw SnapshotError(std::string("food.cuts: ") + error.what());
+    }
+  }
   archive.Scalar("food.awake", food.awake);
   archive.Scalar("food.quiet_time_s", food.quiet_time_s);
   archive.Scalar("food.substeps", food.substeps);
