@@ -89,6 +89,15 @@ void Solver<Real>::RestoreSubstepsTaken(std::uint64_t count) {
   workspace_->substeps_since_reorder = count;
 }
 
+template <typename Real>
+void Solver<Real>::RestoreCutProgress(const CutProgress& progress) {
+  if (progress.cuts_made > kMaxRecordedCuts || progress.current >= kMaxRecordedCuts ||
+      progress.current > progress.cuts_made) {
+    throw std::invalid_argument("RestoreCutProgress: cuts_made <= 16 and current <= min(cuts_made, 15)");
+  }
+  cut_progress_ = progress;
+}
+
 double StableTimestep(const SolverModel& model) {
   double fastest_m_s = 0.0;
   for (const Material& material : model.materials) {
@@ -113,6 +122,7 @@ SubstepContext Solver<Real>::MakeContext(double dt_s) const {
   context.dx_m = dx;
   context.knife_on = knife_ != nullptr;
   context.split_on = context.knife_on && config().effects.two_sided_blade;
+  context.cut_index = static_cast<int>(cut_progress_.current);
   // Resolution-invariant cutting thresholds (paper): band and v_th rescale with dx and dt.
   context.band_m = cutting.band0_m * std::pow(cutting.band_reference_dx_m / dx, cutting.band_gamma);
   context.v_threshold_m_s = (dx / dt_s) * cutting.v_hat;
@@ -207,6 +217,10 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   SubstepDiagnostics diagnostics;
   diagnostics.dt_s = dt_s;
   if (particles_.size() == 0) return diagnostics;
+  // A new cut begins when the blade comes near the food after being clear of it.
+  if (!cut_progress_.blade_in_food) {
+    cut_progress_.current = std::min<std::uint32_t>(cut_progress_.cuts_made, kMaxRecordedCuts - 1);
+  }
   const SubstepContext context = MakeContext(dt_s);
 
   // One parallel region for the whole substep (one fork and join).
@@ -229,6 +243,15 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   diagnostics.p2g_ms = shared.stage_ms[1];
   diagnostics.grid_ms = shared.stage_ms[2];
   diagnostics.g2p_ms = shared.stage_ms[3];
+  CutCounts cut_counts;
+  for (const CutCounts& chunk : workspace_->cut_counts_of_chunk) {
+    cut_counts.labelled += chunk.labelled;
+    cut_counts.recorded += chunk.recorded;
+  }
+  cut_progress_.blade_in_food = cut_counts.labelled > 0;
+  if (cut_counts.recorded > 0) {
+    cut_progress_.cuts_made = std::max(cut_progress_.cuts_made, cut_progress_.current + 1);
+  }
   const GridTotals& grid_totals = contact.totals;
   ParticleTotals particle_totals = SumChunks(workspace_->particle_chunks);
   particle_totals.elastic_energy = shared.elastic_energy_j;
@@ -249,6 +272,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   if (config().effects.force_sensing) {
     // The food pushes each collider with minus the impulse the collider gave it (paper eq. force).
     diagnostics.force_on_blade_n = -grid_totals.blade_impulse / dt_s;
+    diagnostics.force_on_edge_n = -grid_totals.edge_impulse / dt_s;
     diagnostics.force_on_handle_n = -grid_totals.handle_impulse / dt_s;
     diagnostics.force_on_board_n = -grid_totals.board_impulse / dt_s;
     diagnostics.force_on_table_n = -grid_totals.table_impulse / dt_s;

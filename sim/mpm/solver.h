@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 
 #include "sim/mpm/colliders.h"
+#include "sim/mpm/cut_record.h"
 #include "sim/mpm/materials.h"
 #include "sim/mpm/particles.h"
 #include "sim/mpm/solver_config.h"
@@ -28,6 +29,7 @@ struct SubstepShared;   // solver_internals.h
 struct SubstepDiagnostics {
   double dt_s = 0.0;
   Eigen::Vector3d force_on_blade_n = Eigen::Vector3d::Zero();
+  Eigen::Vector3d force_on_edge_n = Eigen::Vector3d::Zero();  // the edge's part of it (the rest: faces)
   Eigen::Vector3d force_on_handle_n = Eigen::Vector3d::Zero();
   Eigen::Vector3d force_on_board_n = Eigen::Vector3d::Zero();
   Eigen::Vector3d force_on_table_n = Eigen::Vector3d::Zero();
@@ -106,6 +108,11 @@ class Solver {
   std::uint64_t substeps_taken() const;
   void RestoreSubstepsTaken(std::uint64_t count);
 
+  // How many cuts the particles have recorded and whether one is under way (cut_record.h); a
+  // snapshot keeps it so that a restored cut goes on recording into the same cut.
+  const CutProgress& cut_progress() const { return cut_progress_; }
+  void RestoreCutProgress(const CutProgress& progress);
+
  private:
   struct Grid;        // the bounded grid box (solver_internals.h)
   struct Workspace;   // per-substep scratch arrays, reused (solver_internals.h)
@@ -122,7 +129,7 @@ class Solver {
   void FitGridBox(const SubstepContext& context, Eigen::Vector3i* origin,
                   Eigen::Vector3i* dims) const;               // solver_grid_box.cc, every thread
   void SplitNodesNearBlade(const SubstepContext& context);    // solver_blade_sides.cc, a section
-  void LabelBladeSides(const SubstepContext& context, std::size_t begin,
+  CutCounts LabelBladeSides(const SubstepContext& context, std::size_t begin,
                        std::size_t end);                      // solver_blade_sides.cc, a chunk
   void SortParticlesIntoBlocks(const SubstepContext& context, const Eigen::Vector3i& origin,
                                const Eigen::Vector3i& dims,
@@ -141,6 +148,7 @@ class Solver {
   std::optional<HalfSpaceSdf> table_;
   std::unique_ptr<Grid> grid_;
   std::unique_ptr<Workspace> workspace_;
+  CutProgress cut_progress_;
 };
 
 // Throws std::invalid_argument naming the field at fault.

@@ -9,9 +9,8 @@
 namespace culinarycut::mpm {
 namespace {
 
-// Nodes split by side only once the edge is this far below them; the edge itself presses on
-// unsplit nodes, which is where cutting resistance and damage come from.
-constexpr double kSplitAboveEdgeCells = 0.5;
+// A particle this close ahead of the edge (in dx) counts as parted: it shares the edge's cell.
+constexpr double kRecordAheadOfEdgeCells = 0.5;
 
 // Whether the grid node at global index `node` is split by side: close to the blade's mid-plane,
 // within its length, and at least half a cell above the edge.
@@ -116,18 +115,22 @@ void Solver<Real>::SplitNodesNearBlade(const SubstepContext& context) {
 }
 
 template <typename Real>
-void Solver<Real>::LabelBladeSides(const SubstepContext& context, std::size_t begin,
-                                   std::size_t end) {
+CutCounts Solver<Real>::LabelBladeSides(const SubstepContext& context, std::size_t begin,
+                                        std::size_t end) {
   Particles<Real>& p = particles_;
+  CutCounts counts;
   if (!context.split_on) {
     std::fill(p.blade_side.begin() + begin, p.blade_side.begin() + end, std::int8_t(0));
-    return;
+    return counts;
   }
   const double dx = context.dx_m;
   const double reach = context.stencil_reach_m;
+  const int cut = context.cut_index;
+  const bool record_cuts = config().effects.damage;  // fracture off: the food heals behind the blade
   // A particle near the blade takes the side it is on, and keeps it once the edge has passed it
   // (from then on the blade stands between the sides); labels are dropped once it is clear of
   // the blade, so the next cut labels afresh. "Near": within a stencil's reach of a split node.
+  // Once the edge is below it, the particle also records that side for this cut, for good.
   const Eigen::AlignedBox3d label_region =
       knife_->BladeBounds(context.split_half_width_m + reach + dx);
   for (std::size_t q = begin; q < end; ++q) {
@@ -145,19 +148,29 @@ void Solver<Real>::LabelBladeSides(const SubstepContext& context, std::size_t be
                       std::abs(side_m) < context.split_half_width_m + reach;
     if (!near) {
       p.blade_side[q] = static_cast<std::int8_t>(BladeSide::kUnassigned);
-    } else if (p.blade_side[q] == static_cast<std::int8_t>(BladeSide::kUnassigned) ||
-               height_m < 0.0) {
+      continue;
+    }
+    if (p.blade_side[q] == static_cast<std::int8_t>(BladeSide::kUnassigned) || height_m < 0.0) {
       p.blade_side[q] = static_cast<std::int8_t>(side_m >= 0.0 ? BladeSide::kPositive
                                                                : BladeSide::kNegative);
     }
+    ++counts.labelled;
+    // Within the blade's length and the split width, with the edge below it or within the half
+    // cell ahead of it that the edge nodes hold (food pressed into the board is parted too).
+    if (record_cuts && height_m > -kRecordAheadOfEdgeCells * dx && std::abs(local.x()) <= context.half_length_m &&
+        std::abs(side_m) < context.split_half_width_m) {
+      p.cut_sides[q] = RecordCut(p.cut_sides[q], cut, p.blade_side[q] > 0);
+      ++counts.recorded;
+    }
   }
+  return counts;
 }
 
 template void Solver<float>::FindSplitCandidates(const SubstepContext&);
 template void Solver<double>::FindSplitCandidates(const SubstepContext&);
 template void Solver<float>::SplitNodesNearBlade(const SubstepContext&);
 template void Solver<double>::SplitNodesNearBlade(const SubstepContext&);
-template void Solver<float>::LabelBladeSides(const SubstepContext&, std::size_t, std::size_t);
-template void Solver<double>::LabelBladeSides(const SubstepContext&, std::size_t, std::size_t);
+template CutCounts Solver<float>::LabelBladeSides(const SubstepContext&, std::size_t, std::size_t);
+template CutCounts Solver<double>::LabelBladeSides(const SubstepContext&, std::size_t, std::size_t);
 
 }  // namespace culinarycut::mpm

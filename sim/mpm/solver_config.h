@@ -8,7 +8,7 @@ namespace culinarycut::mpm {
 
 struct Effects {
   bool plasticity = true;        // J2 radial return (materials with yield_stress_pa > 0)
-  bool damage = true;            // damage growth in the blade band (fracture)
+  bool damage = true;            // fracture: damage in the blade band, and the cut record (cut_record.h)
   bool friction = true;          // Coulomb friction at knife, board and table; off: frictionless
   bool two_sided_blade = true;   // CPIC-style per-side grid near the blade: no leaking through it
   bool force_sensing = true;     // impulse -> force on blade, handle and board; momentum check

@@ -65,6 +65,7 @@ void Solver<Real>::PrepareWorkspace(int team) {
   const std::size_t chunks = ChunkCount(n);
   work.chunk_bounds.resize(chunks);
   work.momentum_of_chunk.assign(chunks, Eigen::Vector3d::Zero());
+  work.cut_counts_of_chunk.assign(chunks, CutCounts{});
   work.node_momentum.resize(n);
   work.elastic_energy_of_chunk.assign(chunks, 0.0);
   work.particle_chunks.assign(chunks, ParticleTotals{});
@@ -101,7 +102,7 @@ void Solver<Real>::ScanParticles(const SubstepContext& context) {
     const std::size_t begin = c * kChunk;
     const std::size_t end = std::min(n, (c + 1) * kChunk);
     work.chunk_bounds[c] = ChunkBounds(p, begin, end);
-    LabelBladeSides(context, begin, end);
+    work.cut_counts_of_chunk[c] = LabelBladeSides(context, begin, end);
     if (sense_force) {
       Eigen::Vector3d momentum = Eigen::Vector3d::Zero();
       for (std::size_t q = begin; q < end; ++q) {

@@ -20,6 +20,10 @@
 
 namespace culinarycut::mpm {
 
+// Nodes split by blade side only once the edge is this far below them (in dx); closer to the edge
+// the node is pushed by the edge itself (edge_resistance.h).
+constexpr double kSplitAboveEdgeCells = 0.5;
+
 // One grid node: (momentum x, y, z, mass) after P2G, (velocity, mass) after the grid update. One
 // 4-vector: a transfer adds to it with one SIMD operation and touches one cache line.
 template <typename Real>
@@ -62,6 +66,7 @@ struct Solver<Real>::Workspace {
   // Setup: bounds (low x y z, high x y z, finite) and momentum of each fixed particle chunk.
   std::vector<std::array<Real, 7>> chunk_bounds;
   std::vector<Eigen::Vector3d> momentum_of_chunk;
+  std::vector<CutCounts> cut_counts_of_chunk;  // side labels and cut records per particle chunk
   // Split-node candidates in global node indices (they depend on the knife only), lexicographic.
   std::vector<Eigen::Vector3i> split_candidates;
   Eigen::Vector3i candidate_low = Eigen::Vector3i::Zero();   // the global node box searched
@@ -97,6 +102,7 @@ struct SubstepContext {
   double dx_m = 0.0;
   bool knife_on = false;
   bool split_on = false;            // the two-sided blade is simulated this substep
+  int cut_index = 0;                // the cut particles record into (cut_record.h)
   double band_m = 0.0;              // damage band around the edge, rescaled with dx (paper)
   double v_threshold_m_s = 0.0;     // approach speed above which damage grows (paper)
   double blade_half_m = 0.0;        // half the blade's effective thickness
