@@ -36,7 +36,7 @@ struct KnifeGeometry {
   // SDF thickness is at least this many grid cells. One cell is enough with the two-sided blade and keeps the
   // cut gap near one cell; the blade's own 2 mm (0) makes the force follow dx less but does not yet always
   // separate the food at the draft grid (docs/mpm.md, "Blade thickness").
-  double min_thickness_cells = 1.0;
+  double min_thickness_cells = 0.0;
   Eigen::Vector3d handle_size_m{0.11, 0.02, 0.025};        // box behind the heel
   Eigen::Vector3d handle_center_in_tcp_m{-0.155, 0.0, -0.03};
 };

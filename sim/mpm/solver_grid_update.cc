@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/mpm/edge_resistance.h"
 #include "sim/mpm/grid_contact.h"
 #include "sim/mpm/solver_internals.h"
 
@@ -11,9 +12,13 @@ namespace culinarycut::mpm {
 namespace {
 
 constexpr double kContactStrengthScale = 0.35;  // c_norm = 0.35 dx / dt (paper)
-// Grid nodes feel the blade within half a cell of its surface: a thin, sharp edge between two
-// node layers would otherwise never touch them, and the edge could not press on the food.
-constexpr double kBladeContactOffsetCells = 0.5;
+// Without the two-sided blade, unsplit nodes feel the blade within half a cell of its surface: a
+// thin blade between two node layers would otherwise never touch them and the food would leak
+// through. With it, the split layers see the faces and the edge nodes the edge: no offset.
+constexpr double kUnsplitBladeOffsetCells = 0.5;
+// A split layer sees the blade's face when its node is within half a cell of it: the food's nearest
+// node layer on each side then always touches the face, wherever the blade lies between nodes.
+constexpr double kFaceReachCells = 0.5;
 
 }  // namespace
 
@@ -41,6 +46,11 @@ void Solver<Real>::UpdateGrid(const SubstepContext& context, ContactState* conta
   const double damping = 1.0 / (1.0 + config().grid_damping_per_s * dt_s);
   const Eigen::Vector3d blade_normal =
       knife_on ? Eigen::Vector3d(knife_->motion().pose.linear().col(1)) : Eigen::Vector3d::UnitY();
+  // The direction the edge cuts in (TCP z: from the edge into the food below it).
+  const Eigen::Vector3d cutting_direction =
+      knife_on ? Eigen::Vector3d(knife_->motion().pose.linear().col(2)) : Eigen::Vector3d::UnitZ();
+  const double half_length_m = context.half_length_m;
+  const double blade_offset_m = split_on ? 0.0 : kUnsplitBladeOffsetCells * dx;
 
   const bool sense_force = effects.force_sensing;  // off: no impulse bookkeeping at all
   // Updates one node's velocity in place from its mass and momentum; `side` >= 0 for a layer of a
@@ -86,7 +96,7 @@ void Solver<Real>::UpdateGrid(const SubstepContext& context, ContactState* conta
       if (side >= 0) {
         // The blade face on this side: material of this side may not move through it.
         const double sign = side == 1 ? 1.0 : -1.0;
-        if (sign * knife_->SideOfBlade(x) < blade_half_m + kBladeContactOffsetCells * dx) {
+        if (sign * knife_->SideOfBlade(x) < blade_half_m + kFaceReachCells * dx) {
           const Eigen::Vector3d before = v;
           if (ResolveContact(sign * blade_normal, knife_->motion().VelocityAt(x), food_at_node().knife_friction,
                              use_friction, &v, &approach)) {
@@ -94,14 +104,37 @@ void Solver<Real>::UpdateGrid(const SubstepContext& context, ContactState* conta
           }
         }
       } else if (blade_box.contains(x)) {
-        const SdfSample sample = knife_->Blade(x);
-        if (sample.distance_m < kBladeContactOffsetCells * dx) {
+        const Eigen::Vector3d local = knife_->ToTcpFrame(x);
+        const double height_m = -local.z();
+        // The node a cell above is split (so this one carries its column's share of the edge).
+        const bool above_is_split = split_on && height_m + dx >= kSplitAboveEdgeCells * dx;
+        const double share = std::abs(local.x()) <= half_length_m
+                                 ? EdgeShare(local.y(), height_m, dx, above_is_split)
+                                 : 0.0;
+        if (share > 0.0) {
+          // The edge pushes the food ahead of it with at most its share of G_c L (edge_resistance.h).
           const Eigen::Vector3d before = v;
-          if (ResolveContact(sample.normal, knife_->motion().VelocityAt(x), food_at_node().knife_friction,
+          if (ResolveContact(cutting_direction, knife_->motion().VelocityAt(x), food_at_node().knife_friction,
                              use_friction, &v, &approach)) {
-            if (sense_force) totals->blade_impulse += m * (v - before);
+            const ContactMaterial& food_here = food_at_node();
+            CapImpulse(before, m,
+                       EdgeImpulseCap(share, food_here.toughness_j_m2, m, food_here.density_kg_m3, dx, dt_s),
+                       &v);
+            if (sense_force) {
+              totals->blade_impulse += m * (v - before);
+              totals->edge_impulse += m * (v - before);
+            }
             totals->approach_speed_sum += approach;
-            totals->resistance_sum += approach * food_at_node().k2_per_s;
+            totals->resistance_sum += approach * food_here.k2_per_s;
+          }
+        } else {
+          const SdfSample sample = knife_->Blade(x);
+          if (sample.distance_m < blade_offset_m) {
+            const Eigen::Vector3d before = v;
+            if (ResolveContact(sample.normal, knife_->motion().VelocityAt(x), food_at_node().knife_friction,
+                               use_friction, &v, &approach)) {
+              if (sense_force) totals->blade_impulse += m * (v - before);
+            }
           }
         }
       }

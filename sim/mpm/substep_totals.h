@@ -19,6 +19,7 @@ inline constexpr std::size_t kChunk = 2048;
 // Sums of one grid-update chunk, reduced in chunk order so that totals do not depend on threads.
 struct GridTotals {
   Eigen::Vector3d blade_impulse = Eigen::Vector3d::Zero();   // on the food, N s
+  Eigen::Vector3d edge_impulse = Eigen::Vector3d::Zero();    // the part of it the edge gave
   Eigen::Vector3d handle_impulse = Eigen::Vector3d::Zero();
   Eigen::Vector3d board_impulse = Eigen::Vector3d::Zero();
   Eigen::Vector3d table_impulse = Eigen::Vector3d::Zero();
@@ -30,6 +31,7 @@ struct GridTotals {
 
   void Add(const GridTotals& other) {
     blade_impulse += other.blade_impulse;
+    edge_impulse += other.edge_impulse;
     handle_impulse += other.handle_impulse;
     board_impulse += other.board_impulse;
     table_impulse += other.table_impulse;

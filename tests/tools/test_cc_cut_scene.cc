@@ -259,8 +259,9 @@ TEST_CASE("a cc-cut run cuts a turned cucumber into two pieces where asked", "[c
   CHECK(summary.momentum_mismatch < 1e-3);
   CHECK(summary.min_speed_factor < 1.0);
   CHECK(summary.min_speed_factor >= model.knife.min_speed_fraction);
-  CHECK(summary.j_min >= solver.j_min);
-  CHECK(summary.j_max <= solver.j_max);
+  // J is clamped in float: within float rounding of the bounds.
+  CHECK(summary.j_min >= solver.j_min - 1e-6);
+  CHECK(summary.j_max <= solver.j_max + 1e-6);
   CHECK(summary.particle_steps_per_s > 0.0);
   CHECK(summary.p2g_ms > 0.0);
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -41,6 +42,9 @@ struct CutResult {
   double max_knife_speed_m_s = 0.0;
   std::int64_t broken_particles = 0;     // damage >= 0.9 at the end
   std::vector<double> blade_force_z_n;   // per substep
+  std::vector<double> edge_force_z_n;    // per substep: the edge's part of the blade force
+  std::vector<double> knife_height_m;    // edge height per substep
+  std::vector<double> dt_s;              // per substep
   std::vector<double> residuals;
 };
 
@@ -68,6 +72,20 @@ inline std::unique_ptr<Solver<float>> SoftBlockOnBoard(const SolverConfig& confi
                   &solver->particles());
   AddBoardAndTable(solver.get());
   return solver;
+}
+
+// The mean of `force_n` (per substep) over the substeps in which the descending edge was between
+// `low_m` and `high_m`: the force averaged over that stretch of the cut (N).
+inline double MeanForceWhileDescending(const CutResult& cut, const std::vector<double>& force_n,
+                                       double low_m, double high_m) {
+  double impulse_n_s = 0.0, time_s = 0.0;
+  for (std::size_t s = 0; s < force_n.size(); ++s) {
+    const double h = cut.knife_height_m[s];
+    if (!(h >= low_m && h <= high_m)) continue;  // NaN while lifting
+    impulse_n_s += force_n[s] * cut.dt_s[s];
+    time_s += cut.dt_s[s];
+  }
+  return time_s > 0.0 ? impulse_n_s / time_s : 0.0;
 }
 
 template <typename Real>
@@ -107,6 +125,9 @@ CutResult RunCut(const CutScenario& scenario, Solver<Real>* solver) {
     forces.push_back(force);
     residuals.push_back(d.momentum_residual);
     result.blade_force_z_n.push_back(d.force_on_blade_n.z());
+    result.edge_force_z_n.push_back(d.force_on_edge_n.z());
+    result.knife_height_m.push_back(lifting ? std::numeric_limits<double>::quiet_NaN() : height);
+    result.dt_s.push_back(dt);
     result.j_min = std::min(result.j_min, d.j_min);
     result.j_max = std::max(result.j_max, d.j_max);
     result.max_kinetic_energy_j = std::max(result.max_kinetic_energy_j, d.kinetic_energy_j);

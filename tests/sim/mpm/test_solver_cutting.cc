@@ -84,6 +84,31 @@ TEST_CASE("a knife cuts a cucumber into exactly two pieces", "[mpm][cutting]") {
   CHECK(cut.worst_momentum_residual <= 0.01);
 }
 
+TEST_CASE("a 2 mm slice off the end of a block comes off and stays a slice", "[mpm][cutting]") {
+  SolverConfig config;
+  config.dx_m = 0.002;  // two particle layers across the slice
+  Solver<float> solver(config, {testing::SoftMaterial(5e4, 0.3)});
+  testing::AddBlock<float>({0.485, -0.01, 0.02}, {0.515, 0.01, 0.04}, config.dx_m, 2, 1000.0, &solver.particles());
+  testing::AddBoardAndTable(&solver);
+  CutScenario scenario;
+  scenario.cut_x_m = 0.513;
+  scenario.start_height_m = 0.045;
+  scenario.lift_to_m = 0.045;
+  scenario.settle_s = 0.1;  // long enough for a slice left touching its block to re-link, were it to
+  const CutResult cut = testing::RunCut(scenario, &solver);
+  const PieceReport report = Pieces(&solver, scenario.cut_x_m);
+  REQUIRE(report.pieces.size() == 2);
+  const Piece& slice = report.pieces[0].volume_m3 < report.pieces[1].volume_m3 ? report.pieces[0] : report.pieces[1];
+  const double expected_m3 = 0.002 * 0.02 * 0.02;
+  INFO("slice " << slice.volume_m3 * 1e6 << " cm^3 (2 mm: " << expected_m3 * 1e6 << "), centroid x "
+                << slice.centroid_m.x() << " m, steps " << cut.steps);
+  // Particles the edge broke (damage >= 0.9) belong to no piece: the slice keeps a fraction.
+  CHECK(slice.volume_m3 > 0.25 * expected_m3);
+  CHECK(slice.volume_m3 < 1.5 * expected_m3);
+  CHECK(slice.centroid_m.x() > scenario.cut_x_m);
+  CHECK(cut.side_violations == 0);
+}
+
 TEST_CASE("a knife turned 30 degrees still cuts cleanly and nothing crosses it", "[mpm][cutting]") {
   SolverConfig config;
   config.dx_m = 0.004;
