@@ -9,6 +9,7 @@ One keep-alive HTTP/1.1 connection per policy; a connection that broke between q
 from __future__ import annotations
 
 import http.client
+import socket
 import time
 from typing import Any
 from urllib.parse import urlsplit
@@ -41,6 +42,7 @@ class JsonNumpyRestClient:
     def _open(self) -> http.client.HTTPConnection:
         connection = http.client.HTTPConnection(self.host, self.port, timeout=self.timeouts.connect_s)
         connection.connect()
+        connection.sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         connection.sock.settimeout(self.timeouts.query_s)
         return connection
 
