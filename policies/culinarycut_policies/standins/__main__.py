@@ -11,6 +11,17 @@ import threading
 from culinarycut_policies.standins.launch import MODELS, make_standin
 
 
+def _logged(model):
+    count = 0
+
+    def logged(request):
+        nonlocal count
+        count += 1
+        print(f"query {count}", flush=True)
+        return model(request)
+    return logged
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m culinarycut_policies.standins", description=__doc__)
     parser.add_argument("model", choices=MODELS)
@@ -20,10 +31,13 @@ def main(argv=None) -> int:
     parser.add_argument("--unnorm-key", help="the dataset key (openvla-oft; openvla takes it per request)")
     parser.add_argument("--mode", choices=("hash", "zero"), default="hash")
     parser.add_argument("--api-key", help="require Authorization: Api-Key KEY (websocket models)")
+    parser.add_argument("--log-queries", action="store_true", help="print `query N` as each query arrives")
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.WARNING)
     server, _ = make_standin(args.model, args.statistics, args.unnorm_key, host=args.host, port=args.port,
                              mode=args.mode, api_key=args.api_key)
+    if args.log_queries:
+        server.model = _logged(server.model)
     stopped = threading.Event()
     signal.signal(signal.SIGTERM, lambda *_: stopped.set())
     server.start()

@@ -43,7 +43,7 @@ class _Handler(BaseHTTPRequestHandler):
             # deploy.py: arrays "double-encoded" as one string under "encoded" are accepted too.
             if isinstance(payload, dict) and "encoded" in payload:
                 payload = json_numpy.loads(payload["encoded"])
-            answer = self.server.predict(payload)
+            answer = self.server.model(payload)
             self._reply(200, json_numpy.dumps(answer))
         except Exception:  # deploy.py's bare except: log, answer "error" with 200
             log.error(traceback.format_exc())
@@ -58,13 +58,13 @@ class _Handler(BaseHTTPRequestHandler):
 
 
 class JsonNumpyRestServer(ThreadingHTTPServer):
-    """Serves `predict(payload) -> answer` on host:port (port 0: a free one, see .port)."""
+    """Serves `model(payload) -> answer` on host:port (port 0: a free one, see .port)."""
 
     daemon_threads = True
 
-    def __init__(self, predict: Callable[[dict], Any], host: str = "127.0.0.1", port: int = 0, route: str = "/act"):
+    def __init__(self, model: Callable[[dict], Any], host: str = "127.0.0.1", port: int = 0, route: str = "/act"):
         super().__init__((host, port), _Handler)
-        self.predict = predict
+        self.model = model
         self.route = route
         self.errors = 0
         self._thread: threading.Thread | None = None

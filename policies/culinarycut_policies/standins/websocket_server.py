@@ -24,11 +24,11 @@ log = logging.getLogger("culinarycut_policies.websocket")
 
 
 class WebsocketPolicyServer:
-    """Serves `infer(observation) -> action dict` on host:port (port 0: a free one, known after start())."""
+    """Serves `model(observation) -> action dict` on host:port (port 0: a free one, known after start())."""
 
-    def __init__(self, infer: Callable[[dict], dict], metadata: dict | None = None, host: str = "127.0.0.1",
+    def __init__(self, model: Callable[[dict], dict], metadata: dict | None = None, host: str = "127.0.0.1",
                  port: int = 0, api_key: str | None = None):
-        self.infer = infer
+        self.model = model
         self.metadata = metadata or {}
         self.host, self.port = host, port
         self.api_key = api_key
@@ -82,7 +82,7 @@ class WebsocketPolicyServer:
                 started = time.monotonic()
                 observation = msgpack_numpy.unpackb(await websocket.recv())
                 infer_started = time.monotonic()
-                action: dict[str, Any] = self.infer(observation)
+                action: dict[str, Any] = self.model(observation)
                 timing = {"infer_ms": (time.monotonic() - infer_started) * 1000.0}
                 if previous_total_s is not None:
                     timing["prev_total_ms"] = previous_total_s * 1000.0
