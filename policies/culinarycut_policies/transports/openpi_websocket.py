@@ -43,7 +43,8 @@ class OpenPIWebsocketClient:
         headers = {"Authorization": f"Api-Key {self.api_key}"} if self.api_key else None
         try:
             ws = websockets.sync.client.connect(self.uri, compression=None, max_size=None, additional_headers=headers,
-                                                open_timeout=self.timeouts.connect_s, close_timeout=1.0)
+                                                open_timeout=self.timeouts.connect_s, close_timeout=1.0,
+                                                legacy=True)  # a connection kept across queries
         except websockets.exceptions.InvalidStatus as err:
             status = err.response.status_code
             hint = " (option api_key)" if status in (401, 403) else ""
