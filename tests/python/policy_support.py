@@ -62,3 +62,47 @@ food = "cucumber"
 state = "middle"
 ''')
     return path
+
+
+class StandinProcess:
+    """A stand-in model server in its own process (`python -m culinarycut_policies.standins`), so a test can
+    kill or freeze it; `queries` counts the queries it has received."""
+
+    def __init__(self, model: str, *args: str):
+        import os
+        import subprocess
+        import threading
+        env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(POLICIES), os.environ.get("PYTHONPATH", "")])}
+        self.proc = subprocess.Popen([sys.executable, "-m", "culinarycut_policies.standins", model, "--port", "0",
+                                      "--log-queries", *args], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                     text=True, env=env)
+        first = self.proc.stdout.readline()
+        if not first.startswith("listening on "):
+            self.proc.kill()
+            raise RuntimeError(f"stand-in {model} did not start: {first}{self.proc.stdout.read()}")
+        self.url = first.split()[-1]
+        self.queries = 0
+        self._reader = threading.Thread(target=self._count, daemon=True)
+        self._reader.start()
+
+    def _count(self) -> None:
+        for line in self.proc.stdout:
+            if line.startswith("query "):
+                self.queries = int(line.split()[1])
+
+    def wait_for_queries(self, count: int, timeout_s: float = 60.0) -> None:
+        import time
+        deadline = time.monotonic() + timeout_s
+        while self.queries < count:
+            if time.monotonic() > deadline or self.proc.poll() is not None:
+                raise AssertionError(f"stand-in saw {self.queries} of {count} queries")
+            time.sleep(0.01)
+
+    def signal(self, number: int) -> None:
+        import os
+        os.kill(self.proc.pid, number)
+
+    def close(self) -> None:
+        if self.proc.poll() is None:
+            self.proc.kill()
+        self.proc.wait(10)

@@ -47,9 +47,19 @@ def _instruction(client: Client, spec: EpisodeSpec) -> str:
                                               split=spec.language)[0]
 
 
+class ActTimeout(Exception):
+    """The policy took longer than act_timeout_s for one action."""
+
+
 def _act(pool: concurrent.futures.ThreadPoolExecutor, policy: Policy, observation, timeout_s: float):
-    """The policy's action, or TimeoutError when it takes longer than timeout_s (its thread is left to finish)."""
-    return pool.submit(policy.act, observation).result(timeout=timeout_s)
+    """The policy's action, or ActTimeout when it takes longer than timeout_s (its thread is left to finish).
+    A TimeoutError the policy raises itself (a remote model's query timeout) stays the policy's error:
+    future.result(timeout) would raise the same class for both."""
+    future = pool.submit(policy.act, observation)
+    done, _ = concurrent.futures.wait([future], timeout=timeout_s)
+    if not done:
+        raise ActTimeout
+    return future.result()
 
 
 def _task_row(spec: EpisodeSpec) -> dict[str, Any]:
@@ -151,14 +161,14 @@ def _play(client: Client, spec: EpisodeSpec, policy: Policy, options: EpisodeOpt
             clock = time.perf_counter()
             try:
                 mode, action = _act(pool, policy, observation, options.act_timeout_s)
-            except concurrent.futures.TimeoutError:
-                row.update(outcome="error", end_reason="policy_error",
+            except ActTimeout:
+                row.update(outcome="error", end_reason="policy_error", steps=step,
                            error=f"act took longer than {options.act_timeout_s:g} s at step {step}")
                 return
             except Unavailable:
                 raise
             except Exception as err:
-                row.update(outcome="error", end_reason="policy_error",
+                row.update(outcome="error", end_reason="policy_error", steps=step,
                            error=f"act at step {step}: {type(err).__name__}: {err}"[:2000])
                 return
             policy_wall += time.perf_counter() - clock
