@@ -49,15 +49,18 @@ def _sample_positions(start: float, end: float, size_in: int, size_out: int) -> 
 
 
 def _bilinear(source: np.ndarray, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
+    """TF's CropAndResize arithmetic: top = tl + (tr - tl) x_lerp, bottom likewise, top + (bottom - top)
+    y_lerp; the x pass is done once per source row, then rows are picked (the same operations)."""
     y0 = np.floor(ys).astype(int)
     x0 = np.floor(xs).astype(int)
     y1 = np.minimum(y0 + 1, source.shape[0] - 1)
     x1 = np.minimum(x0 + 1, source.shape[1] - 1)
-    wy = (ys - y0)[:, None, None]
-    wx = (xs - x0)[None, :, None]
-    top = source[y0][:, x0] * (1 - wx) + source[y0][:, x1] * wx
-    bottom = source[y1][:, x0] * (1 - wx) + source[y1][:, x1] * wx
-    return top * (1 - wy) + bottom * wy
+    x_lerp = (xs - x0).astype(np.float32)[None, :, None]
+    y_lerp = (ys - y0).astype(np.float32)[:, None, None]
+    left = source[:, x0]
+    across = left + (source[:, x1] - left) * x_lerp
+    top = across[y0]
+    return top + (across[y1] - top) * y_lerp
 
 
 # openpi-client's image_tools.resize_with_pad: keep the aspect ratio, bilinear, pad with zeros, centred.

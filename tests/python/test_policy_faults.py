@@ -12,6 +12,7 @@ import policy_support
 from culinarycut.bench.episode import EpisodeOptions, run_episode
 from culinarycut.bench.episode_scene import suite_episodes
 from culinarycut.bench.suite import load_suite
+from culinarycut_policies.standins.process import StandinProcess
 
 STEPS = 40
 KILL_AFTER = 3
@@ -57,7 +58,7 @@ def standin_args(model: str, files) -> list[str]:
 
 @pytest.mark.parametrize("model", sorted(ADAPTERS))
 def test_killed_model_server_is_a_policy_error_and_the_next_episode_runs(files, address, model):
-    standin = policy_support.StandinProcess(model, *standin_args(model, files))
+    standin = StandinProcess(model, *standin_args(model, files))
     try:
         row, wall = run_while(standin, files, address, model, lambda s: s.signal(signal.SIGKILL))
     finally:
@@ -65,7 +66,7 @@ def test_killed_model_server_is_a_policy_error_and_the_next_episode_runs(files, 
     assert (row["outcome"], row["end_reason"]) == ("error", "policy_error"), row
     assert "act at step" in row["error"] and ("PolicyServerUnreachable" in row["error"]), row["error"]
     assert KILL_AFTER <= row["steps"] < STEPS and wall < 30
-    replacement = policy_support.StandinProcess(model, *standin_args(model, files))
+    replacement = StandinProcess(model, *standin_args(model, files))
     try:
         row, _ = episode(files, address, model, replacement.url)
     finally:
@@ -74,7 +75,7 @@ def test_killed_model_server_is_a_policy_error_and_the_next_episode_runs(files, 
 
 
 def test_frozen_model_server_times_out(files, address):
-    standin = policy_support.StandinProcess("octo")
+    standin = StandinProcess("octo")
     try:
         row, wall = run_while(standin, files, address, "octo", lambda s: s.signal(signal.SIGSTOP))
     finally:

@@ -76,6 +76,8 @@ class FakeOpenVLAOFT:
     def __call__(self, payload: dict) -> list:
         self.last_request = payload
         images = [payload["full_image"]] + [payload[k] for k in payload if "wrist" in k]
+        if self.mode == "zero":  # the overhead benchmark's model that does nothing
+            return [np.zeros(self.stats.action.dim) for _ in range(self.chunk)]
         prepared = []
         for image in images:
             image = _image(image, "image")
@@ -86,12 +88,8 @@ class FakeOpenVLAOFT:
             prepared.append(image)
         self.last_images = prepared
         self.last_state = normalize_bounds_q99(payload["state"], self.stats.proprio)
-        dim = self.stats.action.dim
-        if self.mode == "zero":
-            normalized = np.zeros((self.chunk, dim))
-        else:
-            seed = _digest(openvla_prompt(payload["instruction"]), *prepared, self.last_state)
-            normalized = np.tanh(np.resize(seed.astype(np.float64) / 64.0 - 2.0, (self.chunk, dim)))
+        seed = _digest(openvla_prompt(payload["instruction"]), *prepared, self.last_state)
+        normalized = np.tanh(np.resize(seed.astype(np.float64) / 64.0 - 2.0, (self.chunk, self.stats.action.dim)))
         return [unnormalize_bounds_q99(row, self.stats.action) for row in normalized]
 
 
