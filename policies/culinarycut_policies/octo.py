@@ -67,7 +67,6 @@ class OctoPolicy(RemotePolicy):
             raise ValueError(f"policy octo: option execution must be one of {EXECUTIONS}, got {execution!r}")
         if not 1 <= int(exec_horizon) <= PRED_HORIZON:
             raise ValueError(f"policy octo: option exec_horizon must be in 1..{PRED_HORIZON}, got {exec_horizon}")
-        self.execution = execution
         self.executor = (TemporalEnsemble(PRED_HORIZON, exp_weight) if execution == "ensemble"
                          else OpenLoopChunks(int(exec_horizon)))
         self.camera, self.wrist_camera = camera, wrist_camera or None

@@ -34,12 +34,10 @@ class OpenPIPolicy(RemotePolicy):
         self.chunks = OpenLoopChunks(int(replan_steps))
         self.state_dim = int(state_dim)
         self.transport = OpenPIWebsocketClient(self.url, self.timeouts, api_key=api_key)
-        self.server_metadata: dict = {}
 
     def reset(self, instruction, info):
         self.chunks.reset()
         super().reset(instruction, info)
-        self.server_metadata = self.transport.metadata or {}
 
     def request(self, observation: dict) -> dict:
         request = {"observation/image": resize_with_pad(camera_rgb(observation, self.camera), IMAGE_SIZE, IMAGE_SIZE)}

@@ -142,16 +142,21 @@ def installed_policies(tmp_path_factory) -> Path:
     return target
 
 
-def test_bench_run_with_policy_url(files, address, installed_policies, tmp_path):
-    server, _ = make_standin("openvla", str(files["statistics"]))
+@pytest.mark.parametrize("model, unnorm_key", [("openvla", policy_support.DELTA_KEY),
+                                               ("octo", policy_support.DELTA_KEY),
+                                               ("rdt", policy_support.RDT_KEY), ("openpi", None)])
+def test_bench_run_with_policy_url(files, address, installed_policies, tmp_path, model, unnorm_key):
+    server, _ = make_standin(model, str(files["statistics"]))
     server.start()
     out = tmp_path / "run"
+    options = [f"camera_size={CAMERA}"]
+    if unnorm_key:
+        options += [f"statistics={files['statistics']}", f"unnorm_key={unnorm_key}"]
     try:
         env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(installed_policies), os.environ.get("PYTHONPATH", "")])}
         done = subprocess.run(
-            [sys.executable, "-m", "culinarycut", "bench", "run", str(files["suite"]), "--policy", "openvla",
-             "--policy-url", server.url, "--policy-option", f"statistics={files['statistics']}",
-             "--policy-option", f"unnorm_key={policy_support.DELTA_KEY}", "--policy-option", f"camera_size={CAMERA}",
+            [sys.executable, "-m", "culinarycut", "bench", "run", str(files["suite"]), "--policy", model,
+             "--policy-url", server.url, *[a for o in options for a in ("--policy-option", o)],
              "--server", address, "--workers", "1", "--out", str(out), "--no-progress"],
             capture_output=True, text=True, timeout=300, env=env)
     finally:
@@ -164,4 +169,4 @@ def test_bench_run_with_policy_url(files, address, installed_policies, tmp_path)
     finally:
         db.close()
     assert (end_reason, steps) == ("step_limit", STEPS)
-    assert json.loads(latency)["queries"] == STEPS and json.loads(options)["url"] == server.url
+    assert json.loads(latency)["queries"] >= 1 and json.loads(options)["url"] == server.url

@@ -65,7 +65,8 @@ def test_killed_model_server_is_a_policy_error_and_the_next_episode_runs(files, 
         standin.close()
     assert (row["outcome"], row["end_reason"]) == ("error", "policy_error"), row
     assert "act at step" in row["error"] and ("PolicyServerUnreachable" in row["error"]), row["error"]
-    assert KILL_AFTER <= row["steps"] < STEPS and wall < 30
+    # The stand-in logs a query before answering it: the kill may come before or after that answer.
+    assert KILL_AFTER - 1 <= row["steps"] < STEPS and wall < 30
     replacement = StandinProcess(model, *standin_args(model, files))
     try:
         row, _ = episode(files, address, model, replacement.url)

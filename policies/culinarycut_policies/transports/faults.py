@@ -43,9 +43,7 @@ def with_connection_retries(connect: Callable[[], T], timeouts: Timeouts, what: 
     for attempt in range(timeouts.retries + 1):
         try:
             return connect()
-        except (ConnectionError, TimeoutError, OSError) as err:
-            if isinstance(err, PolicyServerError):
-                raise
+        except OSError as err:  # refused, reset, unreachable, timed out (all OSError subclasses)
             errors.append(f"{type(err).__name__}: {err}")
             if attempt < timeouts.retries:
                 time.sleep(delay)

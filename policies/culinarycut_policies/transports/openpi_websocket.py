@@ -85,6 +85,9 @@ class OpenPIWebsocketClient:
         except websockets.exceptions.ConnectionClosed as err:
             self._ws = None
             raise PolicyServerUnreachable(f"policy server {self.uri} closed the connection: {_closed(err)}") from None
+        except OSError as err:  # the socket failed under the protocol (reset, broken pipe)
+            self.close()
+            raise PolicyServerUnreachable(f"policy server {self.uri}: {err!r}") from None
         if isinstance(reply, str):
             self.close()
             raise PolicyServerError(f"policy server {self.uri} failed:\n{reply[-2000:]}")
