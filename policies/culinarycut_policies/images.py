@@ -1,8 +1,11 @@
 """Image preprocessing as each upstream model saw it in training, without TensorFlow: squash resizes with
 an antialiased Lanczos-3 (what tf.image.resize(method="lanczos3", antialias=True) computes), TF's
-crop_and_resize for the 0.9-area centre crop, openpi's resize-with-pad and RDT's pad-to-square.
+crop_and_resize for the 0.9-area centre crop, the JPEG round trip of OpenVLA's evaluation, openpi's
+resize-with-pad and RDT's pad-to-square.
 Every function takes and returns HxWx3 uint8."""
 from __future__ import annotations
+
+import io
 
 import numpy as np
 from PIL import Image
@@ -13,6 +16,14 @@ def check_rgb(image: np.ndarray, what: str) -> np.ndarray:
     if image.ndim != 3 or image.shape[2] != 3 or image.dtype != np.uint8:
         raise ValueError(f"{what}: expected an HxWx3 uint8 image, got {image.shape} {image.dtype}")
     return image
+
+
+# OpenVLA's and OpenVLA-OFT's evaluation (resize_image, resize_image_for_policy) JPEG-encode the frame
+# first, "as done in RLDS dataset builder" (tf.image.encode_jpeg: quality 95, 4:2:0 chroma), and decode it.
+def jpeg_roundtrip(image: np.ndarray, quality: int = 95) -> np.ndarray:
+    buffer = io.BytesIO()
+    Image.fromarray(check_rgb(image, "image")).save(buffer, format="JPEG", quality=quality, subsampling="4:2:0")
+    return np.asarray(Image.open(buffer).convert("RGB"))
 
 
 # OpenVLA (experiments/robot/libero/libero_utils.py, resize_image) and Octo (ResizeImageWrapper):

@@ -1,5 +1,6 @@
-"""OpenVLA through its REST server (vla-scripts/deploy.py): one front image squashed to 224 x 224 (and the
-0.9-area centre crop for models fine-tuned with image augmentation), the instruction and `unnorm_key`;
+"""OpenVLA through its REST server (vla-scripts/deploy.py): one front image JPEG round-tripped and squashed
+to 224 x 224 as its evaluation does (and the 0.9-area centre crop for models fine-tuned with image
+augmentation), the instruction and `unnorm_key`;
 the server builds the prompt, un-normalises with the key's q01/q99 and mask, and answers one 7-D delta
 end-effector action per query, executed as pd_ee_delta_pose (gripper: see actions.py)."""
 from __future__ import annotations
@@ -7,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from culinarycut_policies.actions import delta_to_ee_delta_pose
-from culinarycut_policies.images import camera_rgb, center_crop_resize, squash_resize
+from culinarycut_policies.images import camera_rgb, center_crop_resize, jpeg_roundtrip, squash_resize
 from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy, camera_request
 from culinarycut_policies.statistics import load_statistics
 from culinarycut_policies.transports.faults import PolicyServerError
@@ -26,10 +27,10 @@ def openvla_prompt(instruction: str, v01: bool = False) -> str:
     return f"In: What action should the robot take to {instruction.lower()}?\nOut:"
 
 
-def openvla_image(rgb: np.ndarray, center_crop: bool) -> np.ndarray:
-    """The 224 x 224 image OpenVLA sees: squashed (no letterbox), then optionally centre-cropped to 0.9 of
-    its area and resized back."""
-    image = squash_resize(rgb, IMAGE_SIZE, IMAGE_SIZE)
+def openvla_image(rgb: np.ndarray, center_crop: bool, jpeg: bool = True) -> np.ndarray:
+    """The 224 x 224 image OpenVLA sees: JPEG round trip (its training frames were JPEG in RLDS), squashed
+    (no letterbox), then optionally centre-cropped to 0.9 of its area and resized back."""
+    image = squash_resize(jpeg_roundtrip(rgb) if jpeg else rgb, IMAGE_SIZE, IMAGE_SIZE)
     if center_crop:
         image = center_crop_resize(image, CROP_AREA, IMAGE_SIZE, IMAGE_SIZE)
     return image
@@ -56,18 +57,19 @@ class OpenVLAPolicy(RemotePolicy):
 
     def __init__(self, url: str = "http://127.0.0.1:8000", statistics: str | None = None,
                  unnorm_key: str | None = None, camera: str = "front", camera_size: int = DEFAULT_CAMERA_SIZE,
-                 center_crop: bool = False, check_bounds: bool = True, **transport):
+                 center_crop: bool = False, jpeg: bool = True, check_bounds: bool = True, **transport):
         super().__init__(url=url, **transport)
         self.stats = load_statistics(statistics, unnorm_key, policy=self.name)
         self.camera = camera
         self.cameras = (camera_request(camera, camera_size),)
         self.center_crop = bool(center_crop)
+        self.jpeg = bool(jpeg)
         self.check_bounds = bool(check_bounds)
         self.transport = JsonNumpyRestClient(self.url, self.timeouts)
 
     def request(self, observation: dict) -> dict:
         """deploy.py's payload: {"image": 224x224x3 uint8, "instruction": str, "unnorm_key": str}."""
-        image = openvla_image(camera_rgb(observation, self.camera), self.center_crop)
+        image = openvla_image(camera_rgb(observation, self.camera), self.center_crop, self.jpeg)
         return {"image": image, "instruction": self.instruction, "unnorm_key": self.stats.key}
 
     def act(self, observation):

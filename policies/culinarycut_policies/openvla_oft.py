@@ -1,16 +1,17 @@
 """OpenVLA-OFT through its REST server (openvla-oft vla-scripts/deploy.py): `full_image` and `wrist_image`
-resized to 224 x 224 as the LIBERO client does (the server centre-crops when it was trained with crops),
-`state` (the knife's position and rotation vector, gripper slots 0: see actions.py) and `instruction`;
-the server normalises the state and un-normalises the answer with its `unnorm_key`, and answers a chunk
-of actions (8 for LIBERO) that is executed open loop before the next query."""
+JPEG round-tripped and resized to 224 x 224 as its LIBERO client does (resize_image_for_policy; the
+server centre-crops when it was trained with crops), `state` (the knife's position and rotation
+vector, gripper slots 0: see actions.py) and `instruction`; the server normalises the state and
+un-normalises the answer with its `unnorm_key`, and answers a chunk of actions (8 for LIBERO) that is
+executed open loop before the next query."""
 from __future__ import annotations
 
 import numpy as np
 
 from culinarycut_policies.actions import delta_to_ee_delta_pose, pad_state, tcp_position_axis_angle
 from culinarycut_policies.chunking import OpenLoopChunks
-from culinarycut_policies.images import camera_rgb, squash_resize
-from culinarycut_policies.openvla import IMAGE_SIZE
+from culinarycut_policies.images import camera_rgb
+from culinarycut_policies.openvla import openvla_image
 from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy, camera_request
 from culinarycut_policies.statistics import StatisticsError, load_statistics
 from culinarycut_policies.transports.faults import PolicyServerError
@@ -43,9 +44,9 @@ class OpenVLAOFTPolicy(RemotePolicy):
 
     def request(self, observation: dict) -> dict:
         """run_libero_eval's observation: images already 224 x 224, the raw (un-normalised) state."""
-        payload = {"full_image": squash_resize(camera_rgb(observation, self.camera), IMAGE_SIZE, IMAGE_SIZE)}
+        payload = {"full_image": openvla_image(camera_rgb(observation, self.camera), center_crop=False)}
         if self.wrist_camera:
-            payload["wrist_image"] = squash_resize(camera_rgb(observation, self.wrist_camera), IMAGE_SIZE, IMAGE_SIZE)
+            payload["wrist_image"] = openvla_image(camera_rgb(observation, self.wrist_camera), center_crop=False)
         payload["state"] = pad_state(tcp_position_axis_angle(observation), self.stats.proprio.dim)
         payload["instruction"] = self.instruction
         return payload

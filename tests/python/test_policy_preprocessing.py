@@ -63,12 +63,22 @@ def test_center_crop_of_a_small_image_by_hand():
     np.testing.assert_array_equal(out[:, :, 0], [[22, 37], [52, 67]])
 
 
-def test_openvla_image_is_224_and_crop_changes_it():
+def test_openvla_image_is_jpeg_then_squash_then_crop():
     rng = np.random.Generator(np.random.PCG64(3))
     frame = rng.integers(0, 256, (120, 160, 3), dtype=np.uint8)
     plain, cropped = openvla_image(frame, False), openvla_image(frame, True)
     assert plain.shape == cropped.shape == (224, 224, 3) and plain.dtype == np.uint8
+    np.testing.assert_array_equal(plain, images.squash_resize(images.jpeg_roundtrip(frame), 224, 224))
     np.testing.assert_array_equal(cropped, images.center_crop_resize(plain, 0.9, 224, 224))
+    assert np.abs(plain.astype(int) - images.squash_resize(frame, 224, 224)).max() > 10  # noise does not survive JPEG
+    np.testing.assert_array_equal(openvla_image(frame, False, jpeg=False), images.squash_resize(frame, 224, 224))
+
+
+def test_jpeg_roundtrip_keeps_flat_blocks_and_blurs_noise():
+    flat = np.full((16, 16, 3), (200, 100, 50), dtype=np.uint8)
+    assert np.abs(images.jpeg_roundtrip(flat).astype(int) - flat).max() <= 1
+    noise = np.random.Generator(np.random.PCG64(4)).integers(0, 256, (16, 16, 3), dtype=np.uint8)
+    assert np.abs(images.jpeg_roundtrip(noise).astype(int) - noise).mean() > 2  # 4:2:0 chroma, quantisation
 
 
 def test_resize_with_pad_matches_openpi_client():
