@@ -20,8 +20,8 @@ from culinarycut_policies.transports.openpi_websocket import OpenPIWebsocketClie
 
 PRIMARY_SIZE = 256
 WRIST_SIZE = 128
-WINDOW = 2          # octo-base-1.5's window size
-PRED_HORIZON = 4    # its action head's chunk
+WINDOW = 2          # octo-base-1.5's window size (option window)
+PRED_HORIZON = 4    # its action head's chunk (option action_horizon)
 EXECUTIONS = ("ensemble", "receding")
 
 
@@ -60,18 +60,21 @@ class OctoPolicy(RemotePolicy):
     def __init__(self, url: str = "ws://127.0.0.1:8000", statistics: str | None = None,
                  unnorm_key: str | None = None, camera: str = "front", wrist_camera: str | None = None,
                  camera_size: int = DEFAULT_CAMERA_SIZE, execution: str = "ensemble", exec_horizon: int = 1,
-                 exp_weight: float = 0.0, api_key: str | None = None, **transport):
+                 exp_weight: float = 0.0, window: int = WINDOW, action_horizon: int = PRED_HORIZON,
+                 api_key: str | None = None, **transport):
         super().__init__(url=url, **transport)
         self.stats = load_statistics(statistics, unnorm_key, policy=self.name)
+        self.window, self.action_horizon = int(window), int(action_horizon)
         if execution not in EXECUTIONS:
             raise ValueError(f"policy octo: option execution must be one of {EXECUTIONS}, got {execution!r}")
-        if not 1 <= int(exec_horizon) <= PRED_HORIZON:
-            raise ValueError(f"policy octo: option exec_horizon must be in 1..{PRED_HORIZON}, got {exec_horizon}")
-        self.executor = (TemporalEnsemble(PRED_HORIZON, exp_weight) if execution == "ensemble"
+        if not 1 <= int(exec_horizon) <= self.action_horizon:
+            raise ValueError(f"policy octo: option exec_horizon must be in 1..{self.action_horizon} (action_horizon), "
+                             f"got {exec_horizon}")
+        self.executor = (TemporalEnsemble(self.action_horizon, exp_weight) if execution == "ensemble"
                          else OpenLoopChunks(int(exec_horizon)))
         self.camera, self.wrist_camera = camera, wrist_camera or None
         self.cameras = tuple(camera_request(c, camera_size) for c in (camera, self.wrist_camera) if c)
-        self.history = OctoHistory()
+        self.history = OctoHistory(self.window)
         self.transport = OpenPIWebsocketClient(self.url, self.timeouts, api_key=api_key)
 
     def reset(self, instruction, info):
@@ -80,9 +83,14 @@ class OctoPolicy(RemotePolicy):
         super().reset(instruction, info)
 
     def connect(self) -> None:
+        """The server's metadata must agree with the options (serve_octo.py reads them from the model)."""
         metadata = self.transport.connect()
         if metadata.get("model_family", "octo") != "octo":
             raise PolicyServerError(f"policy octo: the server at {self.url} serves {metadata['model_family']!r}")
+        for option in ("window", "action_horizon"):
+            if option in metadata and int(metadata[option]) != getattr(self, option):
+                raise PolicyServerError(f"policy octo: the model at {self.url} has {option} {metadata[option]}; "
+                                        f"set option {option}={metadata[option]}")
 
     def frame(self, observation: dict) -> dict:
         frame = {"image_primary": squash_resize(camera_rgb(observation, self.camera), PRIMARY_SIZE, PRIMARY_SIZE)}
@@ -100,8 +108,8 @@ class OctoPolicy(RemotePolicy):
         if self.executor.needs_chunk:
             reply = self.transport.infer(request)
             actions = np.asarray(reply.get("actions"))
-            if actions.ndim != 3 or actions.shape[0] != 1 or actions.shape[1] < PRED_HORIZON:
-                raise PolicyServerError(f"policy octo: expected actions (1, >={PRED_HORIZON}, D) from {self.url}, "
-                                        f"got {actions.shape}")
+            if actions.ndim != 3 or actions.shape[0] != 1 or actions.shape[1] < self.action_horizon:
+                raise PolicyServerError(f"policy octo: expected actions (1, >={self.action_horizon}, D) from "
+                                        f"{self.url}, got {actions.shape}")
             self.executor.add(unnormalize_normal(actions[0], self.stats.action))
         return delta_to_ee_delta_pose(self.executor.next())

@@ -218,3 +218,21 @@ def test_keep_alive_connection_is_reused(rest_server):
     connection = client._connection
     client.query(payload)
     assert client._connection is connection and isinstance(connection, http.client.HTTPConnection)
+
+
+def test_adapters_check_the_server_metadata(tmp_path):
+    from culinarycut_policies.octo import OctoPolicy
+    from culinarycut_policies.rdt import RDTPolicy
+    statistics = policy_support.write_statistics(tmp_path)
+    aloha = WebsocketPolicyServer(echo_model, {"model_family": "octo", "window": 2, "action_horizon": 50}).start()
+    try:
+        octo = OctoPolicy(url=aloha.url, statistics=statistics, unnorm_key=policy_support.DELTA_KEY)
+        with pytest.raises(PolicyServerError, match="has action_horizon 50; set option action_horizon=50"):
+            octo.reset("cut", {})
+        octo.close()
+        rdt = RDTPolicy(url=aloha.url, statistics=statistics, unnorm_key=policy_support.RDT_KEY)
+        with pytest.raises(PolicyServerError, match="policy rdt: the server at .* serves 'octo'"):
+            rdt.reset("cut", {})
+        rdt.close()
+    finally:
+        aloha.stop()
