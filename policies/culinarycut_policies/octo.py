@@ -13,7 +13,7 @@ import numpy as np
 from culinarycut_policies.actions import delta_to_ee_delta_pose
 from culinarycut_policies.chunking import OpenLoopChunks, TemporalEnsemble
 from culinarycut_policies.images import camera_rgb, squash_resize
-from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy, camera_request
+from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy
 from culinarycut_policies.statistics import load_statistics, unnormalize_normal
 from culinarycut_policies.transports.faults import PolicyServerError
 from culinarycut_policies.transports.openpi_websocket import OpenPIWebsocketClient
@@ -54,6 +54,7 @@ class OctoHistory:
 
 class OctoPolicy(RemotePolicy):
     name = "octo"
+    model_family = "octo"
     version = "1"
     control_mode = "pd_ee_delta_pose"
 
@@ -72,8 +73,7 @@ class OctoPolicy(RemotePolicy):
                              f"got {exec_horizon}")
         self.executor = (TemporalEnsemble(self.action_horizon, exp_weight) if execution == "ensemble"
                          else OpenLoopChunks(int(exec_horizon)))
-        self.camera, self.wrist_camera = camera, wrist_camera or None
-        self.cameras = tuple(camera_request(c, camera_size) for c in (camera, self.wrist_camera) if c)
+        self.use_cameras(camera, wrist_camera, camera_size)
         self.history = OctoHistory(self.window)
         self.transport = OpenPIWebsocketClient(self.url, self.timeouts, api_key=api_key)
 
@@ -82,11 +82,8 @@ class OctoPolicy(RemotePolicy):
         self.executor.reset()
         super().reset(instruction, info)
 
-    def connect(self) -> None:
+    def check_metadata(self, metadata: dict) -> None:
         """The server's metadata must agree with the options (serve_octo.py reads them from the model)."""
-        metadata = self.transport.connect()
-        if metadata.get("model_family", "octo") != "octo":
-            raise PolicyServerError(f"policy octo: the server at {self.url} serves {metadata['model_family']!r}")
         for option in ("window", "action_horizon"):
             if option in metadata and int(metadata[option]) != getattr(self, option):
                 raise PolicyServerError(f"policy octo: the model at {self.url} has {option} {metadata[option]}; "

@@ -11,7 +11,7 @@ import numpy as np
 from culinarycut_policies.actions import delta_to_ee_delta_pose, pad_state, tcp_position_axis_angle
 from culinarycut_policies.chunking import OpenLoopChunks
 from culinarycut_policies.images import camera_rgb, resize_with_pad
-from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy, camera_request
+from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy
 from culinarycut_policies.transports.faults import PolicyServerError
 from culinarycut_policies.transports.openpi_websocket import OpenPIWebsocketClient
 
@@ -29,8 +29,7 @@ class OpenPIPolicy(RemotePolicy):
                  camera_size: int = DEFAULT_CAMERA_SIZE, replan_steps: int = REPLAN_STEPS,
                  state_dim: int = STATE_DIM, api_key: str | None = None, **transport):
         super().__init__(url=url, **transport)
-        self.camera, self.wrist_camera = camera, wrist_camera or None
-        self.cameras = tuple(camera_request(c, camera_size) for c in (camera, self.wrist_camera) if c)
+        self.use_cameras(camera, wrist_camera, camera_size)
         self.chunks = OpenLoopChunks(int(replan_steps))
         self.state_dim = int(state_dim)
         self.transport = OpenPIWebsocketClient(self.url, self.timeouts, api_key=api_key)

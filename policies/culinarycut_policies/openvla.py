@@ -9,7 +9,7 @@ import numpy as np
 
 from culinarycut_policies.actions import delta_to_ee_delta_pose
 from culinarycut_policies.images import camera_rgb, center_crop_resize, jpeg_roundtrip, squash_resize
-from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy, camera_request
+from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy
 from culinarycut_policies.statistics import load_statistics
 from culinarycut_policies.transports.faults import PolicyServerError
 from culinarycut_policies.transports.json_numpy_rest import JsonNumpyRestClient
@@ -60,8 +60,7 @@ class OpenVLAPolicy(RemotePolicy):
                  center_crop: bool = False, jpeg: bool = True, check_bounds: bool = True, **transport):
         super().__init__(url=url, **transport)
         self.stats = load_statistics(statistics, unnorm_key, policy=self.name)
-        self.camera = camera
-        self.cameras = (camera_request(camera, camera_size),)
+        self.use_cameras(camera, None, camera_size)
         self.center_crop = bool(center_crop)
         self.jpeg = bool(jpeg)
         self.check_bounds = bool(check_bounds)

@@ -12,7 +12,7 @@ from culinarycut_policies.actions import delta_to_ee_delta_pose, pad_state, tcp_
 from culinarycut_policies.chunking import OpenLoopChunks
 from culinarycut_policies.images import camera_rgb
 from culinarycut_policies.openvla import openvla_image
-from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy, camera_request
+from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy
 from culinarycut_policies.statistics import StatisticsError, load_statistics
 from culinarycut_policies.transports.faults import PolicyServerError
 from culinarycut_policies.transports.json_numpy_rest import JsonNumpyRestClient
@@ -33,8 +33,7 @@ class OpenVLAOFTPolicy(RemotePolicy):
         if self.stats.proprio is None:
             raise StatisticsError(f"policy {self.name!r}: the statistics of {self.stats.key!r} have no 'proprio'; "
                                   "OpenVLA-OFT normalises its `state` with them")
-        self.camera, self.wrist_camera = camera, wrist_camera or None
-        self.cameras = tuple(camera_request(c, camera_size) for c in (camera, self.wrist_camera) if c)
+        self.use_cameras(camera, wrist_camera, camera_size)
         self.chunks = OpenLoopChunks(execute_steps)
         self.transport = JsonNumpyRestClient(self.url, self.timeouts)
 

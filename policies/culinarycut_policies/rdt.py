@@ -19,7 +19,7 @@ import numpy as np
 from culinarycut_policies.actions import pose_to_ee_pose_quat, tcp_pose
 from culinarycut_policies.chunking import OpenLoopChunks
 from culinarycut_policies.images import camera_rgb, pad_square_resize
-from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy, camera_request
+from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy
 from culinarycut_policies.rotation import matrix_to_ortho6d, ortho6d_to_matrix, quat_wxyz_to_matrix
 from culinarycut_policies.statistics import StatisticsError, load_statistics, normalize_bounds, unnormalize_bounds
 from culinarycut_policies.transports.faults import PolicyServerError
@@ -67,6 +67,7 @@ def load_embeddings(path: str | None) -> dict[str, np.ndarray]:
 
 class RDTPolicy(RemotePolicy):
     name = "rdt"
+    model_family = "rdt"
     version = "1"
     control_mode = "pd_ee_pose_quat"
 
@@ -83,8 +84,7 @@ class RDTPolicy(RemotePolicy):
             if entry.dim != len(STATE_SLOTS):
                 raise StatisticsError(f"policy rdt: {what} statistics of {self.stats.key!r} have {entry.dim} values; "
                                       f"RDT's layout here has {len(STATE_SLOTS)} (7 joints, TCP xyz, 6-D rotation)")
-        self.camera, self.wrist_camera = camera, wrist_camera or None
-        self.cameras = tuple(camera_request(c, camera_size) for c in (camera, self.wrist_camera) if c)
+        self.use_cameras(camera, wrist_camera, camera_size)
         self.chunks = OpenLoopChunks(int(execute_steps))
         self.fixed_frequency = None if control_frequency is None else float(control_frequency)
         self.control_frequency = self.fixed_frequency or CONTROL_FREQUENCY_HZ
@@ -101,11 +101,6 @@ class RDTPolicy(RemotePolicy):
         if self.fixed_frequency is None and info.get("control_frequency_hz"):
             self.control_frequency = float(info["control_frequency_hz"])
         super().reset(instruction, info)
-
-    def connect(self) -> None:
-        metadata = self.transport.connect()
-        if metadata.get("model_family", "rdt") != "rdt":
-            raise PolicyServerError(f"policy rdt: the server at {self.url} serves {metadata['model_family']!r}")
 
     def images(self, observation: dict) -> list:
         current = [pad_square_resize(camera_rgb(observation, self.camera), IMAGE_SIZE),

@@ -6,7 +6,7 @@ from typing import Any
 
 from culinarycut.policies.base import Policy
 
-from culinarycut_policies.transports.faults import LatencyLog, Timeouts
+from culinarycut_policies.transports.faults import LatencyLog, PolicyServerError, Timeouts
 
 DEFAULT_CAMERA_SIZE = 256  # what LIBERO and Bridge evaluations render before the model's own resize
 
@@ -19,7 +19,10 @@ def camera_request(name: str, size: int) -> dict:
 
 class RemotePolicy(Policy):
     """Subclasses set `name`, `control_mode`, make `self.transport` in __init__ (nothing is contacted
-    there: the runner builds a policy once to check its options) and implement `act`."""
+    there: the runner builds a policy once to check its options) and implement `act`. A websocket model
+    server's metadata may name its `model_family`; one that names another family is refused."""
+
+    model_family: str | None = None
 
     def __init__(self, *, url: str, connect_timeout_s: float = 10.0, query_timeout_s: float = 30.0,
                  retries: int = 3, backoff_s: float = 0.5):
@@ -37,9 +40,22 @@ class RemotePolicy(Policy):
         self.instruction = instruction
         self.connect()
 
+    def use_cameras(self, camera: str, wrist_camera: str | None, size: int) -> None:
+        """The scene cameras this adapter reads: `camera`, and `wrist_camera` unless it is empty."""
+        self.camera, self.wrist_camera = camera, wrist_camera or None
+        self.cameras = tuple(camera_request(c, size) for c in (camera, self.wrist_camera) if c)
+
     def connect(self) -> None:
-        """Opens the transport; subclasses check the server's metadata here."""
-        self.transport.connect()
+        """Opens the transport and checks what the server says it serves."""
+        metadata = self.transport.connect() or {}
+        family = metadata.get("model_family", self.model_family)
+        if self.model_family and family != self.model_family:
+            raise PolicyServerError(f"policy {self.name}: the server at {self.url} serves {family!r}, "
+                                    f"not {self.model_family!r}")
+        self.check_metadata(metadata)
+
+    def check_metadata(self, metadata: dict) -> None:
+        """Subclasses compare the server's metadata with their options."""
 
     def close(self) -> None:
         if self.transport is not None:
