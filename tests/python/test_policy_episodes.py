@@ -170,3 +170,18 @@ def test_bench_run_with_policy_url(files, address, installed_policies, tmp_path,
         db.close()
     assert (end_reason, steps) == ("step_limit", STEPS)
     assert json.loads(latency)["queries"] >= 1 and json.loads(options)["url"] == server.url
+
+
+def test_a_run_folder_from_before_policy_latency_resumes(tmp_path):
+    from culinarycut.bench.store import EPISODE_COLUMNS, ResultStore
+    old = ", ".join(f"{n} {k}" for n, k, _ in EPISODE_COLUMNS if n != "policy_latency")
+    db = sqlite3.connect(tmp_path / "results.sqlite")
+    db.execute(f"CREATE TABLE episodes ({old}, PRIMARY KEY (task, trial))")
+    db.execute("INSERT INTO episodes (suite, task, trial, seed, outcome) VALUES ('s', 'a', 0, 1, 'success')")
+    db.commit()
+    db.close()
+    with ResultStore(tmp_path) as store:
+        assert store.record({"suite": "s", "task": "a", "trial": 1, "seed": 2, "outcome": "failure",
+                             "policy_latency": '{"queries": 3}'})
+        rows = store.episodes()
+    assert [(r["trial"], r["policy_latency"]) for r in rows] == [(0, None), (1, '{"queries": 3}')]

@@ -236,3 +236,85 @@ def test_adapters_check_the_server_metadata(tmp_path):
         rdt.close()
     finally:
         aloha.stop()
+
+
+# --- adapters over the wire, on a synthetic observation -----------------------------------------------
+TCP_QUATERNION = np.array([0.9, 0.1, 0.3, 0.2]) / np.linalg.norm([0.9, 0.1, 0.3, 0.2])  # R is not symmetric
+
+
+def observation(seed: int = 0) -> dict:
+    rng = np.random.Generator(np.random.PCG64(seed))
+    return {"sensor_data": {"front": {"rgb": rng.integers(0, 256, (60, 80, 3), dtype=np.uint8)},
+                            "wrist": {"rgb": rng.integers(0, 256, (60, 80, 3), dtype=np.uint8)}},
+            "extra": {"tcp_pose": np.array([0.45, -0.05, 0.25, *TCP_QUATERNION], np.float32)},
+            "agent": {"qpos": np.linspace(-1, 1, 7).astype(np.float32)}}
+
+
+def test_openvla_executes_the_servers_action_and_refuses_one_outside_the_statistics(tmp_path):
+    from culinarycut_policies.openvla import OpenVLAPolicy
+    statistics = policy_support.write_statistics(tmp_path)
+    answer = {"action": np.array([0.005, -0.004, 0.0, 0.01, -0.02, 0.015, 0.3])}
+    server = JsonNumpyRestServer(lambda payload: answer["action"]).start()
+    try:
+        policy = OpenVLAPolicy(url=server.url, statistics=statistics, unnorm_key=policy_support.DELTA_KEY)
+        policy.reset("cut", {})
+        mode, values = policy.act(observation())
+        assert mode == "pd_ee_delta_pose"
+        np.testing.assert_allclose(values, [0.05, -0.04, 0.0, 0.1, -0.2, 0.15])
+        answer["action"] = np.array([0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5])  # normalised: no statistics applied
+        with pytest.raises(PolicyServerError, match=r"action dimensions \[0, 1, 2, 3, 4, 5\] .* lie outside"):
+            policy.act(observation())
+        policy.close()
+    finally:
+        server.stop()
+
+
+def test_octo_unnormalises_mean_std_and_ensembles_over_the_wire(tmp_path):
+    from culinarycut_policies.octo import OctoPolicy
+    statistics = policy_support.write_statistics(tmp_path)
+    chunks = iter([np.full((1, 4, 7), 1.0, np.float32), np.full((1, 4, 7), -1.0, np.float32)])
+    server = WebsocketPolicyServer(lambda request: {"actions": next(chunks)}, {"model_family": "octo"}).start()
+    try:
+        policy = OctoPolicy(url=server.url, statistics=statistics, unnorm_key=policy_support.DELTA_KEY)
+        policy.reset("cut", {})
+        action = policy.stats.action
+        _, first = policy.act(observation())
+        np.testing.assert_allclose(first, ((action.mean + action.std) / 0.1)[:6], rtol=1e-6)
+        _, second = policy.act(observation(1))  # the mean of +1 and -1 predictions: the dataset mean
+        np.testing.assert_allclose(second, (action.mean / 0.1)[:6], rtol=1e-6, atol=1e-12)
+        policy.close()
+    finally:
+        server.stop()
+
+
+def test_rdt_state_layout_and_pose_target_over_the_wire(tmp_path):
+    from culinarycut_policies.rdt import RDTPolicy
+    from culinarycut_policies.rotation import quat_wxyz_to_matrix
+    statistics = policy_support.write_statistics(tmp_path)
+    seen = {}
+
+    def model(request):
+        seen.update(request)
+        target = np.array(request["state"], dtype=np.float32)
+        target[0, 0, 30] = 0.0  # x to the middle of its [-0.9, 0.9] m bounds
+        return {"actions": np.repeat(target, 64, axis=1)}
+
+    server = WebsocketPolicyServer(model, {"model_family": "rdt"}).start()
+    try:
+        policy = RDTPolicy(url=server.url, statistics=statistics, unnorm_key=policy_support.RDT_KEY,
+                           control_frequency=20)
+        policy.reset("cut", {})
+        mode, target = policy.act(observation())
+        policy.close()
+    finally:
+        server.stop()
+    state = seen["state"][0, 0]
+    # The test statistics' min/max: z in [-0.15, 1.8] m, so 0.25 m -> 2 (0.4 / 1.95) - 1; the 6-D rotation
+    # (R's first two columns) in [-1.5, 1.5] -> v / 1.5.
+    np.testing.assert_allclose(state[32], 2 * 0.4 / 1.95 - 1, rtol=1e-6)
+    rotation = quat_wxyz_to_matrix(TCP_QUATERNION)
+    np.testing.assert_allclose(state[33:39], np.concatenate([rotation[:, 0], rotation[:, 1]]) / 1.5, atol=1e-6)
+    assert np.count_nonzero(seen["state_elem_mask"]) == 16 and seen["ctrl_freq"] == 20.0
+    assert mode == "pd_ee_pose_quat"
+    np.testing.assert_allclose(target[:3], [0.0, -0.05, 0.25], atol=1e-6)
+    np.testing.assert_allclose(target[3:], TCP_QUATERNION, atol=1e-6)  # the pose it was sent comes back
