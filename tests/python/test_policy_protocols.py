@@ -176,6 +176,7 @@ def test_failure_is_the_string_error_with_http_200(rest_server):
         {"image": np.zeros((4, 4, 3), np.uint8), "instruction": "x", "unnorm_key": "bridge_orig"}).encode())
     assert (status, body) == (200, b'"error"')
     assert post(server.url + "/act", b"", method="GET")[0] == 405
+    assert post(server.url + "/act", b"not json")[0] == post(server.url + "/act", b"[1, 2]")[0] == 422
     assert post(server.url + "/predict", b"{}")[0] == 404
     client = JsonNumpyRestClient(server.url, FAST)
     with pytest.raises(PolicyServerError, match='answered "error" \\(HTTP 200\\)'):

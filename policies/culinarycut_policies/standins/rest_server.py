@@ -1,7 +1,7 @@
 """A server with OpenVLA's deploy.py behaviour on the wire, in the standard library: `POST /act` with a
 json-numpy body, the model's answer json-numpy encoded with HTTP 200, and on any failure the JSON string
-"error" with HTTP 200 (the traceback goes to the log). Unknown routes answer 404 and other methods on
-/act 405 with FastAPI's {"detail": ...} bodies. HTTP/1.1 keep-alive, one thread per connection.
+"error" with HTTP 200 (the traceback goes to the log). As FastAPI does, a body that is not a JSON
+object gets 422, unknown routes 404 and other methods on /act 405, with {"detail": ...} bodies. HTTP/1.1 keep-alive, one thread per connection.
 The real-model scripts in policies/servers/ serve through it too."""
 from __future__ import annotations
 
@@ -40,8 +40,15 @@ class _Handler(BaseHTTPRequestHandler):
             return
         try:
             payload = json_numpy.loads(body)
+        except ValueError:  # FastAPI refuses a body that is not JSON before deploy.py sees it
+            self._reply(422, '{"detail":[{"type":"json_invalid","loc":["body"],"msg":"JSON decode error"}]}')
+            return
+        if not isinstance(payload, dict):  # deploy.py's `payload: Dict[str, Any]`
+            self._reply(422, '{"detail":[{"type":"dict_type","loc":["body"],"msg":"Input should be a valid dictionary"}]}')
+            return
+        try:
             # deploy.py: arrays "double-encoded" as one string under "encoded" are accepted too.
-            if isinstance(payload, dict) and "encoded" in payload:
+            if "encoded" in payload:
                 payload = json_numpy.loads(payload["encoded"])
             answer = self.server.model(payload)
             self._reply(200, json_numpy.dumps(answer))
