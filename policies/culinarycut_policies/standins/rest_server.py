@@ -1,8 +1,9 @@
 """A server with OpenVLA's deploy.py behaviour on the wire, in the standard library: `POST /act` with a
 json-numpy body, the model's answer json-numpy encoded with HTTP 200, and on any failure the JSON string
 "error" with HTTP 200 (the traceback goes to the log). As FastAPI does, a body that is not a JSON
-object gets 422, unknown routes 404 and other methods on /act 405, with {"detail": ...} bodies. HTTP/1.1 keep-alive, one thread per connection.
-The real-model scripts in policies/servers/ serve through it too."""
+object gets 422, unknown routes 404 and other methods on /act 405, with {"detail": ...} bodies.
+HTTP/1.1 keep-alive, one thread per connection. The real-model scripts in policies/servers/ serve
+through it too."""
 from __future__ import annotations
 
 import logging
