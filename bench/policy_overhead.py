@@ -26,27 +26,26 @@ from culinarycut.launch import ServerProcess, server_binary
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(0, str(ROOT / "policies"))
-sys.path.insert(0, str(ROOT / "tests" / "python"))
 from step_latency import machine_info  # noqa: E402  (the machine description every benchmark writes)
 
-import policy_support  # noqa: E402  (the statistics layout the tests use)
 from culinarycut_policies.octo import OctoPolicy  # noqa: E402
 from culinarycut_policies.openpi import OpenPIPolicy  # noqa: E402
 from culinarycut_policies.openvla import OpenVLAPolicy  # noqa: E402
 from culinarycut_policies.openvla_oft import OpenVLAOFTPolicy  # noqa: E402
 from culinarycut_policies.rdt import RDTPolicy  # noqa: E402
+from culinarycut_policies.standins import example_statistics  # noqa: E402
 from culinarycut_policies.standins.process import StandinProcess  # noqa: E402
 
 # name: (adapter class, stand-in model, transport, options that make it query every step)
 ADAPTERS = {
-    "openvla": (OpenVLAPolicy, "openvla", "REST + json-numpy", {"unnorm_key": policy_support.DELTA_KEY}),
+    "openvla": (OpenVLAPolicy, "openvla", "REST + json-numpy", {"unnorm_key": example_statistics.DELTA_KEY}),
     "openvla (0.9 crop)": (OpenVLAPolicy, "openvla", "REST + json-numpy",
-                           {"unnorm_key": policy_support.DELTA_KEY, "center_crop": True}),
+                           {"unnorm_key": example_statistics.DELTA_KEY, "center_crop": True}),
     "openvla-oft": (OpenVLAOFTPolicy, "openvla-oft", "REST + json-numpy",
-                    {"unnorm_key": policy_support.DELTA_KEY, "execute_steps": 1}),
-    "octo": (OctoPolicy, "octo", "websocket + msgpack", {"unnorm_key": policy_support.DELTA_KEY,
+                    {"unnorm_key": example_statistics.DELTA_KEY, "execute_steps": 1}),
+    "octo": (OctoPolicy, "octo", "websocket + msgpack", {"unnorm_key": example_statistics.DELTA_KEY,
                                                           "wrist_camera": "wrist"}),
-    "rdt": (RDTPolicy, "rdt", "websocket + msgpack", {"unnorm_key": policy_support.RDT_KEY, "execute_steps": 1}),
+    "rdt": (RDTPolicy, "rdt", "websocket + msgpack", {"unnorm_key": example_statistics.RDT_KEY, "execute_steps": 1}),
     "openpi": (OpenPIPolicy, "openpi", "websocket + msgpack", {"replan_steps": 1}),
 }
 
@@ -86,14 +85,14 @@ def main() -> int:
     spec = suite_episodes(load_suite("smoke"))[0]  # the cucumber ratio cut at draft
     samples = {name: {"act_ms": [], "transport_ms": [], "step_ms": []} for name in ADAPTERS}
     with tempfile.TemporaryDirectory() as folder:
-        statistics = str(policy_support.write_statistics(Path(folder)))
+        statistics = str(example_statistics.write_statistics(Path(folder)))
         server = ServerProcess(server_binary())
         standins = {}
         try:
             with Client(server.address) as client:
                 instruction = client.tasks.generate_instructions(spec.task.cut_spec(), seed=spec.seed, count=1)[0]
             for name, (_, model, _, _) in ADAPTERS.items():
-                extra = ["--statistics", statistics, "--unnorm-key", policy_support.DELTA_KEY] \
+                extra = ["--statistics", statistics, "--unnorm-key", example_statistics.DELTA_KEY] \
                     if model.startswith("openvla") else []
                 standins[name] = StandinProcess(model, "--mode", "zero", *extra)
             for _ in range(args.rounds):
