@@ -34,8 +34,11 @@ def main(argv=None) -> int:
     parser.add_argument("--log-queries", action="store_true", help="print `query N` as each query arrives")
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.WARNING)
-    server, _ = make_standin(args.model, args.statistics, args.unnorm_key, host=args.host, port=args.port,
-                             mode=args.mode, api_key=args.api_key)
+    try:
+        server, _ = make_standin(args.model, args.statistics, args.unnorm_key, host=args.host, port=args.port,
+                                 mode=args.mode, api_key=args.api_key)
+    except ValueError as err:
+        parser.error(str(err))
     if args.log_queries:
         server.model = _logged(server.model)
     stopped = threading.Event()

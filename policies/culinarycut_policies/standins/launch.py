@@ -16,8 +16,11 @@ def make_standin(model: str, statistics: str | None = None, unnorm_key: str | No
                  host: str = "127.0.0.1", port: int = 0, mode: str = "hash", api_key: str | None = None):
     """(server, fake model). OpenVLA's models un-normalise on the server, so they need the statistics;
     the others answer in the model's own (normalised or unified) space."""
+    if model.startswith("openvla") and not statistics:
+        raise ValueError(f"the {model} stand-in un-normalises on the server, as {model} does: give it the "
+                         "statistics (--statistics FILE; standins/example_statistics.py writes an example)")
     if model == "openvla":
-        keys = json.loads(Path(statistics).read_text()) if statistics else {}
+        keys = json.loads(Path(statistics).read_text())
         fake = FakeOpenVLA({k: load_statistics(statistics, k, policy="openvla stand-in") for k in keys}, mode=mode)
         return JsonNumpyRestServer(fake, host, port), fake
     if model == "openvla-oft":
