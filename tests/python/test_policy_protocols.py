@@ -319,3 +319,39 @@ def test_rdt_state_layout_and_pose_target_over_the_wire(tmp_path):
     assert mode == "pd_ee_pose_quat"
     np.testing.assert_allclose(target[:3], [0.0, -0.05, 0.25], atol=1e-6)
     np.testing.assert_allclose(target[3:], TCP_QUATERNION, atol=1e-6)  # the pose it was sent comes back
+
+
+def test_rest_reopens_a_keep_alive_connection_the_server_closed():
+    """uvicorn closes idle keep-alive connections after 5 s: the next query must open a new one."""
+    import socket
+    listener = socket.create_server(("127.0.0.1", 0))
+    accepted = []
+
+    def serve_two_then_stop():
+        for _ in range(2):
+            connection, _ = listener.accept()
+            accepted.append(connection)
+            request = b""
+            while b"\r\n\r\n" not in request:
+                request += connection.recv(65536)
+            head, _, body = request.partition(b"\r\n\r\n")
+            length = int(next(line.split(b":")[1] for line in head.split(b"\r\n")
+                              if line.lower().startswith(b"content-length")))
+            while len(body) < length:
+                body += connection.recv(65536)
+            answer = json_numpy.dumps(np.arange(7.0)).encode()
+            connection.sendall(b"HTTP/1.1 200 OK\r\nContent-Type: application/json\r\nContent-Length: %d\r\n\r\n%s"
+                               % (len(answer), answer))
+            connection.close()  # no "Connection: close": the client still thinks it may reuse it
+
+    thread = threading.Thread(target=serve_two_then_stop, daemon=True)
+    thread.start()
+    client = JsonNumpyRestClient(f"http://127.0.0.1:{listener.getsockname()[1]}", FAST)
+    try:
+        for _ in range(2):
+            np.testing.assert_array_equal(client.query({"image": np.zeros((2, 2, 3), np.uint8)}), np.arange(7.0))
+    finally:
+        client.close()
+        listener.close()
+    thread.join(5)
+    assert len(accepted) == 2 and client.latency.summary()["queries"] == 2

@@ -55,25 +55,7 @@ class JsonNumpyRestClient:
         """The decoded reply to one observation; PolicyServerError for "error" or a non-200 answer."""
         started = time.perf_counter()
         body = json_numpy.dumps(payload).encode()
-        if self._connection is None:
-            self.connect()
-        try:
-            status, reply = self._post(body)
-        except _STALE:
-            self.close()
-            self.connect()
-            try:
-                status, reply = self._post(body)
-            except _STALE as err:
-                self.close()
-                raise PolicyServerUnreachable(f"OpenVLA server {self.url} dropped the connection: {err!r}") from None
-        except TimeoutError:
-            self.close()
-            raise TimeoutError(f"OpenVLA server {self.url} did not answer within {self.timeouts.query_s:g} s "
-                               "(option query_timeout_s)") from None
-        except ConnectionError as err:
-            self.close()
-            raise PolicyServerUnreachable(f"OpenVLA server {self.url}: {err!r}") from None
+        status, reply = self._post_once_more_if_stale(body)
         if status != 200:
             raise PolicyServerError(f"OpenVLA server {self.url} answered HTTP {status}: {reply[:300]!r}")
         try:
@@ -87,6 +69,27 @@ class JsonNumpyRestClient:
                                     "image shape or dtype, a missing key)")
         self.latency.record(started)
         return decoded
+
+    def _post_once_more_if_stale(self, body: bytes) -> tuple[int, bytes]:
+        """A keep-alive connection the server closed is opened again (with the connection retries) and the
+        request sent once more: the route is stateless. A timeout is never retried."""
+        for attempt in range(2):
+            if self._connection is None:
+                self.connect()
+            try:
+                return self._post(body)
+            except _STALE as err:
+                self.close()
+                if attempt:
+                    raise PolicyServerUnreachable(f"OpenVLA server {self.url} dropped the connection: {err!r}") from None
+            except TimeoutError:
+                self.close()
+                raise TimeoutError(f"OpenVLA server {self.url} did not answer within {self.timeouts.query_s:g} s "
+                                   "(option query_timeout_s)") from None
+            except ConnectionError as err:
+                self.close()
+                raise PolicyServerUnreachable(f"OpenVLA server {self.url}: {err!r}") from None
+        raise AssertionError("unreachable")
 
     def _post(self, body: bytes) -> tuple[int, bytes]:
         self._connection.request("POST", self.path, body=body, headers={"Content-Type": "application/json"})
