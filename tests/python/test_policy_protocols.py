@@ -88,6 +88,8 @@ def test_healthz_and_api_key():
         ours = OpenPIWebsocketClient(server.url, FAST, api_key="s3cret")
         assert ours.connect() == {"model_family": "echo"}
         assert ours.infer({"state": np.ones(4), "prompt": "x"})["actions"][0, 0] == 4.0
+        summary = ours.latency.summary()
+        assert summary["queries"] == 1 and 0 <= summary["server_infer_p50_ms"] <= summary["p50_ms"]
         ours.close()
     finally:
         server.stop()

@@ -54,17 +54,24 @@ def with_connection_retries(connect: Callable[[], T], timeouts: Timeouts, what: 
 
 @dataclass
 class LatencyLog:
-    """Wall time of each query (s): preprocessing excluded, encoding and the round trip included."""
+    """Wall time of each query (s): preprocessing excluded, encoding and the round trip included; and, where
+    the server reports it (openpi's `server_timing.infer_ms`), the model's own inference time."""
 
     seconds: list = field(default_factory=list)
+    server_infer_ms: list = field(default_factory=list)
 
-    def record(self, started: float) -> None:
+    def record(self, started: float, server_infer_ms: float | None = None) -> None:
         self.seconds.append(time.perf_counter() - started)
+        if server_infer_ms is not None:
+            self.server_infer_ms.append(float(server_infer_ms))
 
     def summary(self) -> dict:
         if not self.seconds:
             return {"queries": 0}
         values = np.asarray(self.seconds) * 1000.0
-        return {"queries": len(values), "mean_ms": round(float(values.mean()), 3),
-                "p50_ms": round(float(np.percentile(values, 50)), 3),
-                "p95_ms": round(float(np.percentile(values, 95)), 3), "max_ms": round(float(values.max()), 3)}
+        summary = {"queries": len(values), "mean_ms": round(float(values.mean()), 3),
+                   "p50_ms": round(float(np.percentile(values, 50)), 3),
+                   "p95_ms": round(float(np.percentile(values, 95)), 3), "max_ms": round(float(values.max()), 3)}
+        if self.server_infer_ms:
+            summary["server_infer_p50_ms"] = round(float(np.percentile(self.server_infer_ms, 50)), 3)
+        return summary

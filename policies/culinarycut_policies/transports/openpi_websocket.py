@@ -94,7 +94,8 @@ class OpenPIWebsocketClient:
         action = msgpack_numpy.unpackb(reply)
         if not isinstance(action, dict):
             raise PolicyServerError(f"policy server {self.uri} answered a {type(action).__name__}, not a dict")
-        self.latency.record(started)
+        timing = action.get("server_timing")
+        self.latency.record(started, timing.get("infer_ms") if isinstance(timing, dict) else None)
         return action
 
 
