@@ -1,7 +1,7 @@
 # CulinaryCut on Debian 12 (bookworm), in three stages:
 #   build   compilers, -dev packages and the sources; builds the server and the Python client
 #   server  the server binary, its assets and only the shared libraries it loads (no compilers); non-root
-#   client  the Python package and its virtualenv (`culinarycut` CLI, benchmark runner); non-root
+#   client  the Python packages (culinarycut, the policy adapters) and their virtualenv; non-root
 FROM debian:bookworm AS build
 WORKDIR /opt/culinarycut
 # install_deps.sh needs the pins and the Python package (it installs it into .venv), so the sources come first.
@@ -43,6 +43,7 @@ RUN apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq 
     && useradd --create-home --shell /bin/bash culinarycut
 COPY --from=build /opt/culinarycut/.venv /opt/culinarycut/.venv
 COPY --from=build /opt/culinarycut/client/python /opt/culinarycut/client/python
+COPY --from=build /opt/culinarycut/policies /opt/culinarycut/policies
 COPY --from=build /opt/culinarycut/benchmarks /opt/culinarycut/benchmarks
 ENV PATH=/opt/culinarycut/.venv/bin:$PATH CULINARYCUT_BENCHMARKS=/opt/culinarycut/benchmarks
 USER culinarycut

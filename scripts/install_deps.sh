@@ -47,6 +47,9 @@ install_python_env() {
   # (--no-build-isolation), which match Debian's protobuf and grpcio; --no-index: those come from Debian.
   "$venv/bin/python" -m pip install --quiet --disable-pip-version-check --no-build-isolation --no-index \
     -e "$root/client/python"
+  # The policy adapters (policies/), editable too: registers openvla, openvla-oft, octo, rdt, openpi for `--policy`.
+  "$venv/bin/python" -m pip install --quiet --disable-pip-version-check --no-build-isolation --no-index \
+    -e "$root/policies"
 }
 
 missing=()

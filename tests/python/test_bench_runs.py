@@ -146,7 +146,7 @@ def test_a_policy_that_raises_or_hangs_is_recorded_as_policy_error_and_the_suite
     assert "faults with bench_policies:RaisingPolicy" in raised.stdout
     stored = rows(tmp_path / "raising")
     assert len(stored) == 2 and {r["end_reason"] for r in stored} == {"policy_error"}
-    assert all("the model ran out of ideas" in r["error"] and r["steps"] == 0 for r in stored)
+    assert all("the model ran out of ideas" in r["error"] and r["steps"] == 2 for r in stored)  # it raises at step 2
     slow = bench("run", str(suite), "--policy", "bench_policies:SlowPolicy", "--act-timeout", "0.5", "--server",
                  address, "--out", str(tmp_path / "slow"), "--no-progress")
     assert slow.returncode == 0

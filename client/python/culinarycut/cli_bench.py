@@ -55,6 +55,8 @@ def cmd_run(args) -> int:
     policy = args.policy or suite.policy["name"]
     options = suite.policy.get("options", {}) if args.policy in (None, suite.policy["name"]) else {}
     options = {**options, **_policy_options(args.policy_option)}
+    if args.policy_url:
+        options["url"] = args.policy_url
     out = Path(args.out or f"runs/{suite.name}-{policy.replace(':', '-')}")
     config = RunConfig(suite=suite, servers=args.server, out=out, policy=policy, policy_options=options,
                        workers=args.workers, scheduler=args.scheduler, record_failures=args.record_failures,
@@ -105,6 +107,9 @@ def register(sub) -> None:
                                       "default: the suite's")
     run.add_argument("--policy-option", action="append", default=[], metavar="KEY=VALUE",
                      help="an option for the policy's constructor (repeatable)")
+    run.add_argument("--policy-url", metavar="URL",
+                     help="where a remote policy's model server listens (the option url), e.g. "
+                          "http://HOST:8000 for openvla, ws://HOST:8000 for octo, rdt, openpi (docs/policies.md)")
     run.add_argument("--server", action="append", metavar="HOST:PORT",
                      help="a culinarycut-server (repeatable; default 127.0.0.1:50051)")
     run.add_argument("--workers", type=int, default=2, help="episodes at once (default %(default)s)")

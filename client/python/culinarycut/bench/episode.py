@@ -47,9 +47,19 @@ def _instruction(client: Client, spec: EpisodeSpec) -> str:
                                               split=spec.language)[0]
 
 
+class ActTimeout(Exception):
+    """The policy took longer than act_timeout_s for one action."""
+
+
 def _act(pool: concurrent.futures.ThreadPoolExecutor, policy: Policy, observation, timeout_s: float):
-    """The policy's action, or TimeoutError when it takes longer than timeout_s (its thread is left to finish)."""
-    return pool.submit(policy.act, observation).result(timeout=timeout_s)
+    """The policy's action, or ActTimeout when it takes longer than timeout_s (its thread is left to finish).
+    A TimeoutError the policy raises itself (a remote model's query timeout) stays the policy's error:
+    future.result(timeout) would raise the same class for both."""
+    future = pool.submit(policy.act, observation)
+    done, _ = concurrent.futures.wait([future], timeout=timeout_s)
+    if not done:
+        raise ActTimeout
+    return future.result()
 
 
 def _task_row(spec: EpisodeSpec) -> dict[str, Any]:
@@ -91,13 +101,29 @@ def run_episode(spec: EpisodeSpec, server: str, options: EpisodeOptions) -> Epis
             row.update(server_version=info.version, build_id=info.build_id)
             policy = make_policy(options.policy, options.policy_options)
             row["policy_version"] = str(getattr(policy, "version", "0"))
-            _play(client, spec, policy, options, row, trace, frames)
+            try:
+                _play(client, spec, policy, options, row, trace, frames)
+            finally:
+                _finish_policy(policy, row)
     except Unavailable as err:
         raise ServerLost(f"{server}: {err.details}") from None
     except CulinaryCutError as err:
         row.update(outcome="error", end_reason="server_error", error=f"{err.code.name}: {err.details}"[:2000])
     row["wall_s"] = time.perf_counter() - started
     return EpisodeResult(row=row, trace=trace, frames=frames)
+
+
+def _finish_policy(policy: Policy, row: dict) -> None:
+    """A remote policy's query latencies go into the row; its connection to the model server is closed."""
+    summary = getattr(policy, "latency_summary", None)
+    if summary is not None:
+        row["policy_latency"] = json.dumps(summary(), sort_keys=True)
+    close = getattr(policy, "close", None)
+    if close is not None:
+        try:
+            close()
+        except Exception:  # a model server already gone: nothing left to close
+            pass
 
 
 def _play(client: Client, spec: EpisodeSpec, policy: Policy, options: EpisodeOptions, row: dict, trace: dict,
@@ -120,6 +146,7 @@ def _play(client: Client, spec: EpisodeSpec, policy: Policy, options: EpisodeOpt
         env_wall += time.perf_counter() - clock
         info["session"] = EpisodeSession(client, env.session_id)
         info["objects"] = scene["objects"]
+        info["control_frequency_hz"] = 1.0 / env.control_timestep if env.control_timestep > 0 else None
         try:
             clock = time.perf_counter()
             policy.reset(instruction, info)
@@ -134,14 +161,14 @@ def _play(client: Client, spec: EpisodeSpec, policy: Policy, options: EpisodeOpt
             clock = time.perf_counter()
             try:
                 mode, action = _act(pool, policy, observation, options.act_timeout_s)
-            except concurrent.futures.TimeoutError:
-                row.update(outcome="error", end_reason="policy_error",
+            except ActTimeout:
+                row.update(outcome="error", end_reason="policy_error", steps=step,
                            error=f"act took longer than {options.act_timeout_s:g} s at step {step}")
                 return
             except Unavailable:
                 raise
             except Exception as err:
-                row.update(outcome="error", end_reason="policy_error",
+                row.update(outcome="error", end_reason="policy_error", steps=step,
                            error=f"act at step {step}: {type(err).__name__}: {err}"[:2000])
                 return
             policy_wall += time.perf_counter() - clock

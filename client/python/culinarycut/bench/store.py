@@ -60,6 +60,7 @@ EPISODE_COLUMNS = (
     ("wall_s", "REAL", "episode wall time (s)"),
     ("env_wall_s", "REAL", "wall time in reset and step calls (s)"),
     ("policy_wall_s", "REAL", "wall time in the policy (s)"),
+    ("policy_latency", "TEXT", "JSON: a remote policy's queries and their latency (mean, p50, p95, max ms)"),
     ("stage_wall_s", "TEXT", "JSON: the server's wall time by stage (s)"),
     ("attempts", "INTEGER", "servers tried before it ran to the end"),
     ("video", "TEXT", "file of the failure video, relative to the run folder"),
@@ -84,6 +85,11 @@ class ResultStore:
         self.db.execute("PRAGMA synchronous=FULL")
         columns = ", ".join(f"{name} {kind}" for name, kind, _ in EPISODE_COLUMNS)
         self.db.execute(f"CREATE TABLE IF NOT EXISTS episodes ({columns}, PRIMARY KEY (task, trial))")
+        # A run folder from before a column was added gets it (empty for its earlier rows) and resumes.
+        present = {row[1] for row in self.db.execute("PRAGMA table_info(episodes)")}
+        for name, kind, _ in EPISODE_COLUMNS:
+            if name not in present:
+                self.db.execute(f"ALTER TABLE episodes ADD COLUMN {name} {kind}")
         self.db.execute("CREATE TABLE IF NOT EXISTS traces (task TEXT NOT NULL, trial INTEGER NOT NULL, "
                         "trace TEXT NOT NULL, PRIMARY KEY (task, trial))")
         self.db.execute("CREATE TABLE IF NOT EXISTS run (key TEXT PRIMARY KEY, value TEXT NOT NULL)")

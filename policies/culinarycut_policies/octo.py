@@ -1,0 +1,112 @@
+"""Octo through an openpi-protocol server (policies/servers/serve_octo.py): `image_primary` 256 x 256 and
+`image_wrist` 128 x 128 (Lanczos squash, as Octo's ResizeImageWrapper), a history window of 2 with
+`timestep_pad_mask` (octo/utils/gym_wrappers.py HistoryWrapper), batch dimension first. The server
+answers normalised action chunks (1, 4, 7) (sample_actions without statistics); they are un-normalised
+here with the dataset's mean/std and mask, as sample_actions would, and executed by temporal ensembling
+or receding horizon control."""
+from __future__ import annotations
+
+from collections import deque
+
+import numpy as np
+
+from culinarycut_policies.actions import delta_to_ee_delta_pose
+from culinarycut_policies.chunking import OpenLoopChunks, TemporalEnsemble
+from culinarycut_policies.images import camera_rgb, squash_resize
+from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy
+from culinarycut_policies.statistics import load_statistics, unnormalize_normal
+from culinarycut_policies.transports.faults import PolicyServerError
+from culinarycut_policies.transports.openpi_websocket import OpenPIWebsocketClient
+
+PRIMARY_SIZE = 256
+WRIST_SIZE = 128
+WINDOW = 2          # octo-base-1.5's window size (option window)
+PRED_HORIZON = 4    # its action head's chunk (option action_horizon)
+EXECUTIONS = ("ensemble", "receding")
+
+
+class OctoHistory:
+    """HistoryWrapper: the first observation fills the window and is the only one not padding."""
+
+    def __init__(self, window: int = WINDOW):
+        self.window = window
+        self.frames: deque = deque(maxlen=window)
+        self.seen = 0
+
+    def reset(self) -> None:
+        self.frames.clear()
+        self.seen = 0
+
+    def add(self, frame: dict) -> dict:
+        """The stacked window (window, ...) per key plus `timestep_pad_mask` (window,), False = padding."""
+        if not self.frames:
+            self.frames.extend([frame] * self.window)
+            self.seen = 1
+        else:
+            self.frames.append(frame)
+            self.seen += 1
+        stacked = {k: np.stack([f[k] for f in self.frames]) for k in frame}
+        mask = np.ones(self.window, dtype=bool)
+        mask[: self.window - min(self.seen, self.window)] = False
+        stacked["timestep_pad_mask"] = mask
+        return stacked
+
+
+class OctoPolicy(RemotePolicy):
+    name = "octo"
+    model_family = "octo"
+    version = "1"
+    control_mode = "pd_ee_delta_pose"
+
+    def __init__(self, url: str = "ws://127.0.0.1:8000", statistics: str | None = None,
+                 unnorm_key: str | None = None, camera: str = "front", wrist_camera: str | None = None,
+                 camera_size: int = DEFAULT_CAMERA_SIZE, execution: str = "ensemble", exec_horizon: int = 1,
+                 exp_weight: float = 0.0, window: int = WINDOW, action_horizon: int = PRED_HORIZON,
+                 api_key: str | None = None, **transport):
+        super().__init__(url=url, **transport)
+        self.stats = load_statistics(statistics, unnorm_key, policy=self.name)
+        self.window, self.action_horizon = int(window), int(action_horizon)
+        if execution not in EXECUTIONS:
+            raise ValueError(f"policy octo: option execution must be one of {EXECUTIONS}, got {execution!r}")
+        if not 1 <= int(exec_horizon) <= self.action_horizon:
+            raise ValueError(f"policy octo: option exec_horizon must be in 1..{self.action_horizon} (action_horizon), "
+                             f"got {exec_horizon}")
+        self.executor = (TemporalEnsemble(self.action_horizon, exp_weight) if execution == "ensemble"
+                         else OpenLoopChunks(int(exec_horizon)))
+        self.use_cameras(camera, wrist_camera, camera_size)
+        self.history = OctoHistory(self.window)
+        self.transport = OpenPIWebsocketClient(self.url, self.timeouts, api_key=api_key)
+
+    def reset(self, instruction, info):
+        self.history.reset()
+        self.executor.reset()
+        super().reset(instruction, info)
+
+    def check_metadata(self, metadata: dict) -> None:
+        """The server's metadata must agree with the options (serve_octo.py reads them from the model)."""
+        for option in ("window", "action_horizon"):
+            if option in metadata and int(metadata[option]) != getattr(self, option):
+                raise PolicyServerError(f"policy octo: the model at {self.url} has {option} {metadata[option]}; "
+                                        f"set option {option}={metadata[option]}")
+
+    def frame(self, observation: dict) -> dict:
+        frame = {"image_primary": squash_resize(camera_rgb(observation, self.camera), PRIMARY_SIZE, PRIMARY_SIZE)}
+        if self.wrist_camera:
+            frame["image_wrist"] = squash_resize(camera_rgb(observation, self.wrist_camera), WRIST_SIZE, WRIST_SIZE)
+        return frame
+
+    def request(self, observation: dict) -> dict:
+        """{"observation": {key: (1, 2, ...)}, "prompt": instruction}: batch first, as sample_actions takes it."""
+        window = self.history.add(self.frame(observation))
+        return {"observation": {k: v[None] for k, v in window.items()}, "prompt": self.instruction}
+
+    def act(self, observation):
+        request = self.request(observation)  # every step: the history window moves with each observation
+        if self.executor.needs_chunk:
+            reply = self.transport.infer(request)
+            actions = np.asarray(reply.get("actions"))
+            if actions.ndim != 3 or actions.shape[0] != 1 or actions.shape[1] < self.action_horizon:
+                raise PolicyServerError(f"policy octo: expected actions (1, >={self.action_horizon}, D) from "
+                                        f"{self.url}, got {actions.shape}")
+            self.executor.add(unnormalize_normal(actions[0], self.stats.action))
+        return delta_to_ee_delta_pose(self.executor.next())
