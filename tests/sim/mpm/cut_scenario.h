@@ -39,6 +39,7 @@ struct CutResult {
   double max_c_hat = 0.0;
   double max_elastic_energy_j = 0.0;
   std::int64_t j_clamps = 0;
+  std::int64_t speed_caps = 0;           // particle and node speeds capped, summed over substeps
   double max_knife_speed_m_s = 0.0;
   std::int64_t broken_particles = 0;     // damage >= 0.9 at the end
   std::vector<double> blade_force_z_n;   // per substep
@@ -134,6 +135,7 @@ CutResult RunCut(const CutScenario& scenario, Solver<Real>* solver) {
     result.max_c_hat = std::max(result.max_c_hat, d.c_hat);
     result.max_elastic_energy_j = std::max(result.max_elastic_energy_j, d.elastic_energy_j);
     result.j_clamps += d.j_clamps;
+    result.speed_caps += d.speed_caps;
     result.finite = result.finite && std::isfinite(d.kinetic_energy_j) && std::isfinite(force) &&
                     std::isfinite(d.elastic_energy_j);
 
