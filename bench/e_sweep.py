@@ -33,7 +33,7 @@ IMPACT_WINDOW_STEPS = 2  # post-impact speed: mean TCP speed over the 2 control 
 
 
 def episode(client: Client, youngs_mpa: float, quality: str) -> dict:
-    scene = cut_cucumber_scene(quality=quality, cameras=(), real_material=True)
+    scene = cut_cucumber_scene(quality=quality, cameras=())
     scene["objects"][0]["material_overrides"] = {"youngs_modulus_pa": youngs_mpa * 1e6}
     started = time.perf_counter()
     trace = run_oracle_episode(client, scene, seed=0)

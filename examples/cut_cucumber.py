@@ -62,7 +62,6 @@ def main() -> int:
     parser.add_argument("--width", type=int, default=224)
     parser.add_argument("--height", type=int, default=224)
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--real-material", action="store_true", help="the cucumber's real stiffness (stalls at draft)")
     parser.add_argument("--out", type=Path, default=Path("out/cut_cucumber"))
     args = parser.parse_args()
 
@@ -75,8 +74,7 @@ def main() -> int:
             stack.callback(server.stop)
             args.address = server.address
         client = stack.enter_context(Client(args.address, timeout_s=600))
-        scene = cut_cucumber_scene(args.instruction, args.quality, args.width, args.height, CAMERAS,
-                                   args.real_material)
+        scene = cut_cucumber_scene(args.instruction, args.quality, args.width, args.height, CAMERAS)
         fps = 20.0  # the default control rate: one frame per step plays in real time
         writers = {name: cv2.VideoWriter(str(args.out / f"{name}.mp4"), cv2.VideoWriter_fourcc(*"mp4v"), fps,
                                          (args.width, args.height)) for name in CAMERAS}

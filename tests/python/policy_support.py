@@ -15,14 +15,13 @@ from culinarycut_policies.standins.example_statistics import DELTA_KEY, RDT_KEY,
 
 
 def write_suite(folder: Path, steps: int, trials: int = 1) -> Path:
-    """A one-task suite (a softened cucumber, cut in the middle, draft) of `steps`-step episodes."""
+    """A one-task suite (a cucumber, cut in the middle, draft) of `steps`-step episodes."""
     path = folder / "policy-adapters.toml"
     path.write_text(f'''name = "policy-adapters"
 description = "Short draft episodes for the policy adapter tests."
 trials = {trials}
 max_episode_steps = {steps}
 quality = "draft"
-material_overrides = {{ youngs_modulus_pa = 2e5 }}
 
 [[tasks]]
 food = "cucumber"

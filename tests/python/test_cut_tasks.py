@@ -1,5 +1,5 @@
 """The paper's tasks end to end through the server: a scene with a task, the scripted oracle driving
-the Panda, the MPM food cut, and the scored outcome in info (draft preset, softened food)."""
+the Panda, the MPM food cut, and the scored outcome in info (draft preset, real food materials)."""
 from __future__ import annotations
 
 import numpy as np
@@ -8,14 +8,11 @@ import pytest
 from culinarycut import CulinaryCutEnv, errors
 from culinarycut.policies import ScriptedOracle
 
-# Softened foods: at the draft grid the real ones need more force than the Panda's wrist gives
-# (docs/world.md), so the robot would stall in them.
-SOFT = {"youngs_modulus_pa": 2e5}
 CUTTING_EFFECTS = {"mpm": True, "damage": True, "friction": True, "topology": True, "force_sensing": True}
 
 
 def task_scene(food: str, task: dict, cameras=()) -> dict:
-    return {"quality": "draft", "effects": CUTTING_EFFECTS, "objects": [{"food": food, "material_overrides": SOFT}],
+    return {"quality": "draft", "effects": CUTTING_EFFECTS, "objects": [{"food": food}],
             "task": task, "cameras": list(cameras)}
 
 

@@ -8,9 +8,7 @@ from culinarycut import errors
 from culinarycut.client import food_to_dict
 from culinarycut.policies import ScriptedOracle
 
-# A softened cucumber: at the draft grid the real one (E = 2.5 MPa) needs more force to cut than
-# the Panda's wrist gives (docs/world.md), so the robot would stall in it.
-SOFT_CUCUMBER = {"food": "cucumber", "material_overrides": {"youngs_modulus_pa": 2e5}}
+CUCUMBER = {"food": "cucumber"}  # the real material preset
 CUTTING_EFFECTS = {"mpm": True, "damage": True, "friction": True, "topology": True, "force_sensing": True}
 
 
@@ -36,11 +34,11 @@ def test_food_scenes_are_checked_with_the_field_named(client):
     with pytest.raises(errors.InvalidArgument, match="youngs_modulus_pa"):
         client.create_session(cutting_scene({"food": "cucumber", "material_overrides": {"stiffness": 1.0}}))
     with pytest.raises(errors.InvalidArgument, match="scene.mpm.dx"):
-        client.create_session({**cutting_scene(SOFT_CUCUMBER), "mpm": {"dx": 1.0}})
+        client.create_session({**cutting_scene(CUCUMBER), "mpm": {"dx": 1.0}})
 
 
 def test_the_resolved_scene_places_the_food_and_names_the_resolution(client):
-    handshake = client.create_session(cutting_scene(SOFT_CUCUMBER))
+    handshake = client.create_session(cutting_scene(CUCUMBER))
     scene = handshake.resolved_scene
     assert scene.mpm.dx == pytest.approx(0.008) and scene.mpm.particles_per_cell == 4
     position = np.asarray(scene.objects[0].pose.position)
@@ -49,21 +47,21 @@ def test_the_resolved_scene_places_the_food_and_names_the_resolution(client):
 
 
 def test_a_food_given_only_x_and_y_rests_on_the_board_there(client):
-    default = client.create_session(cutting_scene(SOFT_CUCUMBER))
+    default = client.create_session(cutting_scene(CUCUMBER))
     lying = default.resolved_scene.objects[0].pose.position
     client.close_session(default.session_id)
-    handshake = client.create_session(cutting_scene({**SOFT_CUCUMBER, "pose": {"position": [0.45, 0.05]}}))
+    handshake = client.create_session(cutting_scene({**CUCUMBER, "pose": {"position": [0.45, 0.05]}}))
     position = np.asarray(handshake.resolved_scene.objects[0].pose.position)
     np.testing.assert_allclose(position, [0.45, 0.05, lying[2]], atol=1e-12)  # same height as the default
     client.close_session(handshake.session_id)
     with pytest.raises(errors.InvalidArgument, match=r"scene.objects\[0\].pose.position"):
-        client.create_session(cutting_scene({**SOFT_CUCUMBER, "pose": {"position": [0.45]}}))
+        client.create_session(cutting_scene({**CUCUMBER, "pose": {"position": [0.45]}}))
     with pytest.raises(errors.InvalidArgument, match=r"off the table"):
-        client.create_session(cutting_scene({**SOFT_CUCUMBER, "pose": {"position": [5.0, 0.0]}}))
+        client.create_session(cutting_scene({**CUCUMBER, "pose": {"position": [5.0, 0.0]}}))
 
 
 def test_mpm_sleeps_until_the_knife_approaches(client):
-    session = client.create_session(cutting_scene(SOFT_CUCUMBER)).session_id
+    session = client.create_session(cutting_scene(CUCUMBER)).session_id
     client.reset(session)
     for _ in range(3):
         response = client.step(session, "pd_ee_delta_pose", np.zeros(6))
@@ -75,7 +73,7 @@ def test_mpm_sleeps_until_the_knife_approaches(client):
 
 
 def test_an_oracle_cut_splits_the_cucumber_and_loads_the_wrist_only_in_contact(client):
-    session = client.create_session(cutting_scene(SOFT_CUCUMBER)).session_id
+    session = client.create_session(cutting_scene(CUCUMBER)).session_id
     client.reset(session, seed=3)
     oracle = ScriptedOracle(client, session)
     oracle.reset("cut the cucumber in the middle")
@@ -100,7 +98,7 @@ def test_an_oracle_cut_splits_the_cucumber_and_loads_the_wrist_only_in_contact(c
 
 def test_restore_then_replay_gives_identical_force_traces(client):
     """Snapshot in the middle of a cut; the replayed steps give bit-identical wrenches and pieces."""
-    session = client.create_session(cutting_scene(SOFT_CUCUMBER)).session_id
+    session = client.create_session(cutting_scene(CUCUMBER)).session_id
     client.reset(session, seed=5)
     oracle = ScriptedOracle(client, session)
     oracle.reset("cut the cucumber in the middle")

@@ -12,7 +12,7 @@ from gymnasium.utils.env_checker import check_env
 from culinarycut import CulinaryCutEnv
 from culinarycut.client import observation_to_dict
 from culinarycut.policies import ScriptedOracle
-from culinarycut.scenes import CUTTING_EFFECTS, SOFT_CUCUMBER
+from culinarycut.scenes import CUTTING_EFFECTS
 
 # The checker's advice that does not apply: joint velocities, poses and wrenches are unbounded (ManiSkill
 # declares its float observations unbounded too), and joint-position and pose actions are in rad and m.
@@ -142,7 +142,7 @@ def test_info_counts_steps_and_keeps_wall_times_out(address):
 def test_fail_turns_true_once_an_extra_cut_makes_the_task_impossible(address):
     # The scene asks for one cut in the middle; the oracle is told to cut three pieces instead.
     scene = {"quality": "draft", "effects": CUTTING_EFFECTS,
-             "objects": [{"food": "cucumber", "material_overrides": SOFT_CUCUMBER}],
+             "objects": [{"food": "cucumber"}],
              "task": {"instruction": "cut the cucumber in the middle"}}
     with CulinaryCutEnv(address, scene=scene) as env:
         env.reset(seed=0)

@@ -5,20 +5,15 @@ from __future__ import annotations
 from typing import Sequence
 
 CUT_CUCUMBER_INSTRUCTION = "cut the cucumber at 0.3 ratio from the left"
-# At the draft grid a real cucumber (E = 2.5 MPa) needs more force than the Panda's wrist gives
-# (docs/world.md): the cut scene softens it unless real_material is asked for.
-SOFT_CUCUMBER = {"youngs_modulus_pa": 2e5}
 CUTTING_EFFECTS = {"mpm": True, "damage": True, "friction": True, "topology": True, "force_sensing": True}
 
 
 def cut_cucumber_scene(instruction: str = CUT_CUCUMBER_INSTRUCTION, quality: str = "draft", width: int = 224,
                        height: int = 224, cameras: Sequence[str] = ("front", "left", "right"),
-                       real_material: bool = False, max_episode_steps: int = 0) -> dict:
-    """One cucumber on the board with the cutting effects, a task and RGB cameras of width x height pixels
-    (default cameras by name); max_episode_steps 0 means no step limit."""
+                       max_episode_steps: int = 0) -> dict:
+    """One cucumber (its real material preset) on the board with the cutting effects, a task and RGB cameras
+    of width x height pixels (default cameras by name); max_episode_steps 0 means no step limit."""
     food = {"food": "cucumber"}
-    if not real_material:
-        food["material_overrides"] = dict(SOFT_CUCUMBER)
     scene = {
         "quality": quality,
         "effects": dict(CUTTING_EFFECTS),
@@ -31,4 +26,4 @@ def cut_cucumber_scene(instruction: str = CUT_CUCUMBER_INSTRUCTION, quality: str
     return scene
 
 
-__all__ = ["cut_cucumber_scene", "CUT_CUCUMBER_INSTRUCTION", "SOFT_CUCUMBER", "CUTTING_EFFECTS"]
+__all__ = ["cut_cucumber_scene", "CUT_CUCUMBER_INSTRUCTION", "CUTTING_EFFECTS"]

@@ -17,10 +17,7 @@ SceneConfig CucumberScene(bool topology) {
   config.quality = "draft";
   config.effects = EffectsConfig{true, false, true, true, topology, true};
   FoodConfig cucumber;
-  cucumber.food = "cucumber";
-  // A softened cucumber: at the draft grid the real one (E = 2.5 MPa) takes 110-170 N to cut,
-  // more than the Panda's wrist can push, so the robot stalls in it (docs/world.md).
-  cucumber.material_overrides["youngs_modulus_pa"] = 2e5;
+  cucumber.food = "cucumber";  // its real material preset
   config.foods.push_back(cucumber);
   return config;
 }
