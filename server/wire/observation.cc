@@ -71,6 +71,7 @@ void StepResultToWire(const StepResult& result, double render_wall_time_ms, v1::
   }
   info->set_mpm_substeps(static_cast<std::uint32_t>(result.mpm_substeps));
   info->set_first_contact(result.first_contact);
+  info->set_knife_stalled(result.knife_stalled);
   info->set_step_wall_time_ms(result.wall_time_ms);
   info->set_control_wall_time_ms(result.timings[Stage::kControl]);
   info->set_physics_wall_time_ms(result.timings[Stage::kPhysics]);

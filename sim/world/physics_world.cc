@@ -1,5 +1,7 @@
 #include "sim/world/physics_world.h"
 
+#include <cmath>
+
 #include <btBulletDynamicsCommon.h>
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
@@ -165,6 +167,15 @@ void PhysicsWorld::AddJointTorques(JointValues torques_nm) {
 void PhysicsWorld::StepOnce() {
   world_->stepSimulation(physics_timestep_s_, 0, physics_timestep_s_);
   EnforceJointLimits();
+}
+
+bool PhysicsWorld::AnyMotorAtEffortLimit() const {
+  // The solver clamps each motor's impulse to its maximum; within 1 % of it counts as saturated.
+  constexpr double kSaturatedFraction = 0.99;
+  for (const auto& motor : motors_) {
+    if (std::abs(motor->getAppliedImpulse(0)) >= kSaturatedFraction * motor->getMaxAppliedImpulse()) return true;
+  }
+  return false;
 }
 
 void PhysicsWorld::EnforceJointLimits() {

@@ -46,6 +46,8 @@ class PhysicsWorld {
 
   // Advances by one physics timestep; joints never end it outside their limits.
   void StepOnce();
+  // Whether any joint motor used its whole effort (the largest impulse it may apply) in the last step.
+  bool AnyMotorAtEffortLimit() const;
 
   // World pose of movable link i's frame (URDF link frame, not the COM frame) as Bullet sees it.
   Eigen::Isometry3d LinkPose(int link_index) const;

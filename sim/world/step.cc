@@ -104,6 +104,7 @@ StepResult Step(const Model& model, State* state, const Action& action, const Ca
   KnifeWrench wrench_sum;  // over the physics steps, for the control step's mean
   // The knife's pose at the start of each physics step is the pose at the end of the one before.
   Eigen::Isometry3d tcp_start = food ? TcpInWorld(model, state->physics->JointPositions()) : Eigen::Isometry3d::Identity();
+  int saturated_in_contact = 0;  // physics steps with a motor at its effort limit, the knife in the food
   for (int i = 0; i < model.substeps_per_control_step; ++i) {
     if (stop_here()) return result;
     {
@@ -119,10 +120,12 @@ StepResult Step(const Model& model, State* state, const Action& action, const Ca
     tcp_start = tcp_end;
     result.mpm_substeps += food_report.substeps;
     result.knife_contact = result.knife_contact || food_report.contact;
+    if (food_report.contact && state->physics->AnyMotorAtEffortLimit()) ++saturated_in_contact;
     wrench_sum.force_n += food->wrench.force_n;
     wrench_sum.torque_nm += food->wrench.torque_nm;
   }
   result.substeps = model.substeps_per_control_step;
+  result.knife_stalled = result.knife_contact && 2 * saturated_in_contact >= model.substeps_per_control_step;
   if (food) EndFoodStep(model, wrench_sum, state, &result);
   if (model.task) {
     StageClock clock(&result.timings, Stage::kTask);

@@ -29,6 +29,9 @@ struct StepResult {
   int mpm_substeps = 0;           // MPM substeps (0 while the food sleeps or without food)
   bool knife_contact = false;     // the knife touched the food during this step
   bool first_contact = false;     // ... for the first time this episode (the contact phase begins)
+  // The knife was in the food and a joint of the arm at its effort limit for at least half of the
+  // step's physics steps: the Panda pushes with all it has, and the food may be too hard to cut.
+  bool knife_stalled = false;
   bool cancelled = false;         // the cancel check said stop: nothing of this step was applied
 
   // Wall time of each stage (ms); never part of the simulation, so never compared for determinism.

@@ -127,6 +127,7 @@ def step_info_to_dict(info: simulator_pb2.StepInfo) -> dict[str, Any]:
         "ik_orientation_error": float(info.ik_orientation_error),  # rad
         "mpm_substeps": int(info.mpm_substeps),
         "first_contact": bool(info.first_contact),                 # the contact phase began
+        "knife_stalled": bool(info.knife_stalled),                 # in the food, the arm at its effort limit
     }
 
 

@@ -90,7 +90,7 @@ def run_episode(spec: EpisodeSpec, server: str, options: EpisodeOptions) -> Epis
     row = _task_row(spec)
     row.update(policy=options.policy, policy_options=json.dumps(options.policy_options, sort_keys=True),
                server=server, outcome="error", end_reason="", error="", steps=0, sim_time_s=0.0,
-               peak_force_n=0.0, peak_speed_m_s=0.0, pieces=0, instruction="", resolved_scene="",
+               peak_force_n=0.0, peak_speed_m_s=0.0, stalled_steps=0, pieces=0, instruction="", resolved_scene="",
                env_wall_s=0.0, policy_wall_s=0.0, stage_wall_s="{}", server_version="", build_id="",
                policy_version="", **_score_fields(None))
     trace: dict[str, list] = {"time_s": [], "force_n": [], "speed_m_s": [], "tcp_z_m": []}
@@ -194,6 +194,9 @@ def _play(client: Client, spec: EpisodeSpec, policy: Policy, options: EpisodeOpt
         row["pieces"] = len(info.get("food", {}).get("pieces", []))
         row.update(_score_fields(info.get("task")))
         row["outcome"] = "success" if info.get("success") else "failure"
+        # A failure in which the arm pushed with all it has: the food was too hard for the Panda here.
+        if row["outcome"] == "failure" and row["stalled_steps"] > 0 and end_reason in ("step_limit", "policy_finished"):
+            end_reason = "knife_stalled"
         row["end_reason"] = end_reason
         stats = client.session_stats(env.session_id)
         row["stage_wall_s"] = json.dumps({k: round(v, 6) for k, v in sorted(stats.stage_wall_time_s.items())})
@@ -211,6 +214,7 @@ def _record_step(observation, info, trace, row, frames) -> None:
     trace["tcp_z_m"].append(round(float(extra["tcp_pose"][2]), 5))
     row["peak_force_n"] = max(row["peak_force_n"], force_n)
     row["peak_speed_m_s"] = max(row["peak_speed_m_s"], speed_m_s)
+    row["stalled_steps"] += int(info.get("knife_stalled", False))
     recorded = observation.get("sensor_data", {}).get(RECORD_CAMERA["name"], {})
     if frames is not None and "rgb" in recorded:
         frames.append(recorded["rgb"].copy())

@@ -43,7 +43,8 @@ EPISODE_COLUMNS = (
     ("build_id", "TEXT", "the server's build id"),
     ("resolved_scene", "TEXT", "the SceneSpec the server resolved, JSON"),
     ("outcome", "TEXT NOT NULL", "success, failure or error"),
-    ("end_reason", "TEXT", "success, task_failed, step_limit, policy_finished, policy_error, server_error"),
+    ("end_reason", "TEXT", "success, task_failed, step_limit, policy_finished, knife_stalled, policy_error, "
+                           "server_error"),
     ("error", "TEXT", "what went wrong, for outcome error"),
     ("cuts_required", "INTEGER", ""),
     ("cuts_correct", "INTEGER", "in position and angle"),
@@ -55,6 +56,7 @@ EPISODE_COLUMNS = (
     ("pieces", "INTEGER", "pieces at the end"),
     ("peak_force_n", "REAL", "peak knife force at the wrist (N)"),
     ("peak_speed_m_s", "REAL", "peak knife (TCP) speed (m/s)"),
+    ("stalled_steps", "INTEGER", "steps the knife was in the food with the arm at its effort limit"),
     ("steps", "INTEGER", "control steps"),
     ("sim_time_s", "REAL", "simulated time (s)"),
     ("wall_s", "REAL", "episode wall time (s)"),
