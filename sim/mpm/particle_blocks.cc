@@ -32,6 +32,7 @@ template <typename P, typename S, typename B, typename F>
 void ForEachParticleArray(P& p, S& spare, B& blocks, F&& f) {
   for (int axis = 0; axis < 3; ++axis) f(p.position[axis], spare.position[axis]);
   for (int axis = 0; axis < 3; ++axis) f(p.velocity[axis], spare.velocity[axis]);
+  for (int axis = 0; axis < 3; ++axis) f(p.rest_position[axis], spare.rest_position[axis]);
   for (int k = 0; k < 9; ++k) f(p.F[k], spare.F[k]);
   for (int k = 0; k < 9; ++k) f(p.C[k], spare.C[k]);
   f(p.mass, spare.mass);

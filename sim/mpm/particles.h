@@ -20,6 +20,9 @@ template <typename Real>
 struct Particles {
   std::array<std::vector<Real>, 3> position;   // m, world frame
   std::array<std::vector<Real>, 3> velocity;   // m/s
+  // Where it was sampled (m, world frame): its material coordinates, so that a cut can be placed where
+  // the blade passed whatever the pieces did afterwards.
+  std::array<std::vector<Real>, 3> rest_position;
   std::array<std::vector<Real>, 9> F;          // deformation gradient, row-major 3x3
   std::array<std::vector<Real>, 9> C;          // APIC/MLS affine velocity field, row-major, 1/s
   std::vector<Real> mass;                      // kg
@@ -40,6 +43,7 @@ struct Particles {
     for (int axis = 0; axis < 3; ++axis) {
       position[axis].push_back(x_m[axis]);
       velocity[axis].push_back(Real(0));
+      rest_position[axis].push_back(x_m[axis]);
     }
     for (int k = 0; k < 9; ++k) {
       F[k].push_back(k % 4 == 0 ? Real(1) : Real(0));

@@ -392,6 +392,7 @@ std::vector<Piece> DetectPieces(const TopologyOptions& options, Particles<Real>*
     piece.volume_m3 += static_cast<double>(p.volume[i]);
     piece.mass_kg += mass_kg;
     piece.bounds_m.extend(x);
+    piece.rest_bounds_m.extend(Eigen::Vector3d(p.rest_position[0][i], p.rest_position[1][i], p.rest_position[2][i]));
     weighted_sum[static_cast<std::size_t>(label)] += mass_kg * x;
     plain_sum[static_cast<std::size_t>(label)] += x;
   }
@@ -421,12 +422,12 @@ std::vector<double> CutPositionsAlongAxis(const std::vector<Piece>& pieces, std:
   };
   std::vector<Extent> extents;
   for (const Piece& piece : pieces) {
-    if (piece.object != object || piece.bounds_m.isEmpty()) continue;
+    if (piece.object != object || piece.rest_bounds_m.isEmpty()) continue;
     Extent extent{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
                   piece.label};
     for (int corner = 0; corner < 8; ++corner) {
       const double t =
-          (piece.bounds_m.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner)) -
+          (piece.rest_bounds_m.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner)) -
            axis_origin_m)
               .dot(direction);
       extent.lo = std::min(extent.lo, t);

@@ -28,6 +28,7 @@ struct Piece {
   double volume_m3 = 0.0;           // sum of particle volumes (initial)
   double mass_kg = 0.0;
   Eigen::AlignedBox3d bounds_m;     // world-space bounding box of its particles
+  Eigen::AlignedBox3d rest_bounds_m;  // the same of where its particles were sampled (material coordinates)
   Eigen::Vector3d centroid_m = Eigen::Vector3d::Zero();  // mass-weighted
 };
 

@@ -99,6 +99,10 @@ void CheckFood(const Model& model, const State& state) {
       Require(std::isfinite(x) && std::abs(x) <= kSceneHalfExtentM, "food.position",
               "holds a particle outside the scene (|x| > 4 m, or not finite)");
     }
+    for (const float x : p.rest_position[axis]) {
+      Require(std::isfinite(x) && std::abs(x) <= kSceneHalfExtentM, "food.rest_position",
+              "holds a particle sampled outside the scene (|x| > 4 m, or not finite)");
+    }
     for (const float v : p.velocity[axis]) {
       Require(std::isfinite(v) && std::abs(v) <= 2 * model.food->solver->config.max_particle_speed_m_s,
               "food.velocity", "holds a speed above the solver's cap, or not finite");
@@ -135,7 +139,8 @@ void CheckFood(const Model& model, const State& state) {
     Require(piece.object < objects, "food.pieces", "names no food object of the scene");
     Require(piece.particle_count <= p.size(), "food.pieces", "holds more particles than the food");
     Require(std::isfinite(piece.volume_m3) && std::isfinite(piece.mass_kg) && piece.centroid_m.allFinite() &&
-                piece.bounds_m.min().allFinite() && piece.bounds_m.max().allFinite(),
+                piece.bounds_m.min().allFinite() && piece.bounds_m.max().allFinite() &&
+                piece.rest_bounds_m.min().allFinite() && piece.rest_bounds_m.max().allFinite(),
             "food.pieces", "holds a non-finite value");
   }
 }

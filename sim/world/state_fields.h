@@ -38,6 +38,9 @@ void VisitParticles(Archive& archive, ParticlesT& p, std::size_t count) {
   static const char* const kAxes[3] = {"x", "y", "z"};
   for (int axis = 0; axis < 3; ++axis) archive.Array((std::string("food.position.") + kAxes[axis]).c_str(), p.position[axis], count);
   for (int axis = 0; axis < 3; ++axis) archive.Array((std::string("food.velocity.") + kAxes[axis]).c_str(), p.velocity[axis], count);
+  for (int axis = 0; axis < 3; ++axis) {
+    archive.Array((std::string("food.rest_position.") + kAxes[axis]).c_str(), p.rest_position[axis], count);
+  }
   for (int k = 0; k < 9; ++k) archive.Array(("food.F[" + std::to_string(k) + "]").c_str(), p.F[k], count);
   for (int k = 0; k < 9; ++k) archive.Array(("food.C[" + std::to_string(k) + "]").c_str(), p.C[k], count);
   archive.Array("food.mass", p.mass, count);
@@ -62,6 +65,10 @@ void VisitPiece(Archive& archive, const std::string& name, mpm::Piece& piece) {
   VisitVector3(archive, name + ".bounds_min_m", low);
   VisitVector3(archive, name + ".bounds_max_m", high);
   if constexpr (Archive::kReading) piece.bounds_m = Eigen::AlignedBox3d(low, high);
+  Eigen::Vector3d rest_low = piece.rest_bounds_m.min(), rest_high = piece.rest_bounds_m.max();
+  VisitVector3(archive, name + ".rest_bounds_min_m", rest_low);
+  VisitVector3(archive, name + ".rest_bounds_max_m", rest_high);
+  if constexpr (Archive::kReading) piece.rest_bounds_m = Eigen::AlignedBox3d(rest_low, rest_high);
   VisitVector3(archive, name + ".centroid_m", piece.centroid_m);
 }
 

@@ -83,7 +83,9 @@ task::TaskScore EvaluateTask(const TaskModel& task, const FoodModel& food, const
   for (const mpm::Piece& piece : pieces) {
     const double share = static_cast<double>(piece.particle_count) / std::max<std::size_t>(1, task.object_particles[piece.object]);
     if (share < task.min_piece_fraction) continue;  // a crumb, not a piece
-    bounds_of_object[piece.object].emplace_back(piece.bounds_m.min(), piece.bounds_m.max());
+    // Where the pieces' material came from, not where it lies now: the cut is placed where the blade
+    // passed, however far the pieces slid or rolled since.
+    bounds_of_object[piece.object].emplace_back(piece.rest_bounds_m.min(), piece.rest_bounds_m.max());
   }
   std::vector<task::MeasuredCut> cuts;
   for (std::size_t i = 0; i < food.objects.size(); ++i) {

@@ -22,7 +22,7 @@ SCENE = {"quality": "draft",
 # Engine bytes (sim/world/state_fields.h): magic (8), model fingerprint (8), has-food flag (1),
 # frame_id (8), sim_time_s (8), seed (8), episode_steps (4), three joint vectors of (uint32 length +
 # 7 doubles), then the food's particle arrays, each a count (uint64) and its values: position x, y, z
-# (float32), velocity x, y, z, F (9), C (9), mass, volume, plastic strain, damage (float32), piece
+# (float32), velocity x, y, z, rest position x, y, z, F (9), C (9), mass, volume, plastic strain, damage (float32), piece
 # (int32), blade side (int8), cut sides (uint32), material (uint16), object (uint16).
 SEAL_HEADER = 8 + 32
 FOOD = 8 + 8 + 1 + 8 + 8 + 8 + 4 + 3 * (4 + 7 * 8)
@@ -45,10 +45,10 @@ def array_offset(engine: bytes, index: int, item_sizes: list[int]) -> int:
     return offset + 8
 
 
-# Item sizes of the particle arrays in order: 3 positions, 3 velocities, 9 F, 9 C, mass, volume,
+# Item sizes of the particle arrays in order: 3 positions, 3 velocities, 3 rest positions, 9 F, 9 C, mass, volume,
 # plastic strain, damage, piece, blade side, cut sides, material, object.
-ITEM_SIZES = [4] * 3 + [4] * 3 + [4] * 9 + [4] * 9 + [4, 4, 4, 4, 4, 1, 4, 2, 2]
-CUT_SIDES, MATERIAL, OBJECT, POSITION_Z, MASS = 30, 31, 32, 2, 24
+ITEM_SIZES = [4] * 3 + [4] * 3 + [4] * 3 + [4] * 9 + [4] * 9 + [4, 4, 4, 4, 4, 1, 4, 2, 2]
+CUT_SIDES, MATERIAL, OBJECT, POSITION_Z, REST_Z, MASS = 33, 34, 35, 2, 8, 27
 
 
 def patched(engine: bytes, array: int, fmt: str, value) -> bytes:
@@ -107,6 +107,7 @@ def test_snapshots_move_between_servers_only_with_a_shared_key(client, keyed_ser
     (POSITION_Z, "<f", float("nan"), "food.position"),
     (MASS, "<f", -1.0, "food.mass"),
     (CUT_SIDES, "<I", 0b10, "food.cut_sides"),
+    (REST_Z, "<f", float("inf"), "food.rest_position"),
 ])
 def test_authentic_but_impossible_snapshots_are_refused_naming_the_field(keyed_server, array, fmt, value, field):
     server, key, _ = keyed_server

@@ -96,7 +96,9 @@ json ResultJson(const CutSummary& s) {
                       {"mass_kg", piece.mass_kg},
                       {"centroid_m", Vec(piece.centroid_m)},
                       {"bounds_min_m", Vec(piece.bounds_m.min())},
-                      {"bounds_max_m", Vec(piece.bounds_m.max())}});
+                      {"bounds_max_m", Vec(piece.bounds_m.max())},
+                      {"rest_bounds_min_m", Vec(piece.rest_bounds_m.min())},
+                      {"rest_bounds_max_m", Vec(piece.rest_bounds_m.max())}});
   }
   json cut_fractions = json::array();
   for (const double cut_m : s.cut_positions_m) cut_fractions.push_back(cut_m / s.food_length_m);

@@ -368,6 +368,27 @@ TEST_CASE("cut positions lie midway between neighbouring pieces along the axis",
   CHECK(CutPositionsAlongAxis(pieces, 2, origin, Eigen::Vector3d::UnitX()).empty());
 }
 
+TEST_CASE("cut positions are where the pieces' material came from, however far they slid", "[mpm][topology]") {
+  Particles<double> particles;
+  // Two pieces cut apart at x = 21 mm ([0, 18] mm and [24, 42] mm as sampled) ...
+  AddBlock(&particles, {0.0, 0.0, 0.0}, 10, 4, 4);
+  AddBlock(&particles, {0.024, 0.0, 0.0}, 10, 4, 4);
+  // ... then the right one slides 30 mm further right and the left one rolls 5 mm up.
+  for (std::size_t q = 0; q < particles.size(); ++q) {
+    if (particles.position[0][q] > 0.02) particles.position[0][q] += 0.03;
+    else particles.position[2][q] += 0.005;
+  }
+  const std::vector<Piece> pieces = DetectPieces(LatticeOptions(), &particles);
+  REQUIRE(pieces.size() == 2);
+  const std::vector<double> cuts = CutPositionsAlongAxis(pieces, 0, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX());
+  REQUIRE(cuts.size() == 1);
+  CHECK(cuts[0] == Approx(0.021));
+  // The world bounds moved with the pieces; the rest bounds did not.
+  const Piece& right = pieces[0].centroid_m.x() > pieces[1].centroid_m.x() ? pieces[0] : pieces[1];
+  CHECK(right.bounds_m.min().x() == Approx(0.054));
+  CHECK(right.rest_bounds_m.min().x() == Approx(0.024));
+}
+
 TEST_CASE("float and double agree", "[mpm][topology]") {
   Particles<double> in_double;
   Particles<float> in_float;

@@ -19,7 +19,7 @@ SceneConfig CucumberTaskScene(TaskConfig task) {
 }
 
 // A piece of `object` spanning [from, to] of its long axis (fractions from the left end), 2 cm thick
-// across it.
+// across it, lying where it was cut (its rest bounds, which the score reads, are its bounds).
 mpm::Piece PieceAlong(const task::ObjectBox& object, double from, double to, std::size_t particles) {
   const task::LongAxis axis = task::LongAxisOf(object);
   const Eigen::Vector3d a = task::PointAtFraction(axis, from), b = task::PointAtFraction(axis, to);
@@ -28,6 +28,7 @@ mpm::Piece PieceAlong(const task::ObjectBox& object, double from, double to, std
   piece.particle_count = particles;
   piece.bounds_m.extend(a.cwiseMin(b) - across_m);
   piece.bounds_m.extend(a.cwiseMax(b) + across_m);
+  piece.rest_bounds_m = piece.bounds_m;
   return piece;
 }
 
