@@ -89,6 +89,16 @@ inline double MeanForceWhileDescending(const CutResult& cut, const std::vector<d
   return time_s > 0.0 ? impulse_n_s / time_s : 0.0;
 }
 
+// A 4 x 2 x 2 cm block of `material` on the board, centred at x = 0.5 m, 8 particles per cell.
+inline Solver<float> SmallBlockOnBoard(const Material& material, double dx_m = 0.004) {
+  SolverConfig config;
+  config.dx_m = dx_m;
+  Solver<float> solver(config, {material});
+  AddBlock<float>({0.48, -0.01, 0.02}, {0.52, 0.01, 0.04}, config.dx_m, 2, 1000.0, &solver.particles());
+  AddBoardAndTable(&solver);
+  return solver;
+}
+
 template <typename Real>
 CutResult RunCut(const CutScenario& scenario, Solver<Real>* solver) {
   CutResult result;

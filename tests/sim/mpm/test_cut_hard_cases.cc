@@ -11,16 +11,6 @@ namespace {
 using testing::CutResult;
 using testing::CutScenario;
 
-// A 4 x 2 x 2 cm block on the board, centred at x = 0.5 m.
-Solver<float> BlockSolver(const Material& material) {
-  SolverConfig config;
-  config.dx_m = 0.004;
-  Solver<float> solver(config, {material});
-  testing::AddBlock<float>({0.48, -0.01, 0.02}, {0.52, 0.01, 0.04}, config.dx_m, 2, 1000.0, &solver.particles());
-  testing::AddBoardAndTable(&solver);
-  return solver;
-}
-
 std::vector<Piece> Pieces(Solver<float>* solver) {
   TopologyOptions options;
   options.link_distance_m = 0.75 * solver->config().dx_m;
@@ -42,7 +32,7 @@ void CheckCutInTwo(Solver<float>* solver, const CutResult& cut) {
 }
 
 TEST_CASE("a knife at 10 m/s, faster than the food's sound speed, cuts it in two", "[mpm][hard]") {
-  Solver<float> solver = BlockSolver(testing::SoftMaterial(5e4, 0.3));  // c = 8.3 m/s
+  Solver<float> solver = testing::SmallBlockOnBoard(testing::SoftMaterial(5e4, 0.3));  // c = 8.3 m/s
   const Eigen::Vector3d before = testing::CentreOfMass(solver.particles());
   CutScenario scenario;
   scenario.start_height_m = 0.045;
@@ -58,7 +48,7 @@ TEST_CASE("a knife at 10 m/s, faster than the food's sound speed, cuts it in two
 }
 
 TEST_CASE("nearly incompressible flesh (nu = 0.499) is cut in two", "[mpm][hard]") {
-  Solver<float> solver = BlockSolver(testing::SoftMaterial(5e4, 0.499));
+  Solver<float> solver = testing::SmallBlockOnBoard(testing::SoftMaterial(5e4, 0.499));
   CutScenario scenario;
   scenario.start_height_m = 0.045;
   scenario.speed_m_s = 1.0;
@@ -68,7 +58,7 @@ TEST_CASE("nearly incompressible flesh (nu = 0.499) is cut in two", "[mpm][hard]
 }
 
 TEST_CASE("a stiff food (E = 50 MPa) is cut in two with no particle at the speed cap", "[mpm][hard]") {
-  Solver<float> solver = BlockSolver(testing::SoftMaterial(50e6, 0.3));
+  Solver<float> solver = testing::SmallBlockOnBoard(testing::SoftMaterial(50e6, 0.3));
   CutScenario scenario;
   scenario.start_height_m = 0.042;
   scenario.speed_m_s = 2.0;
@@ -81,7 +71,7 @@ TEST_CASE("a stiff food (E = 50 MPa) is cut in two with no particle at the speed
 }
 
 TEST_CASE("3 s of sawing keeps the food in place within a few mm and cuts it", "[mpm][hard]") {
-  Solver<float> solver = BlockSolver(testing::SoftMaterial(5e4, 0.3));
+  Solver<float> solver = testing::SmallBlockOnBoard(testing::SoftMaterial(5e4, 0.3));
   const Eigen::Vector3d before = testing::CentreOfMass(solver.particles());
   CutScenario scenario;
   scenario.start_height_m = 0.041;

@@ -33,18 +33,8 @@ void CheckStable(const CutResult& cut, const Solver<Real>& solver) {
   CHECK(cut.max_elastic_energy_j <= 0.5 * material.youngs_modulus_pa * 0.25 * volume);
 }
 
-Solver<float> BlockSolver(const Material& material, double dx_m = 0.004) {
-  SolverConfig config;
-  config.dx_m = dx_m;
-  Solver<float> solver(config, {material});
-  testing::AddBlock<float>({0.48, -0.01, 0.02}, {0.52, 0.01, 0.04}, config.dx_m, 2, 1000.0,
-                           &solver.particles());
-  testing::AddBoardAndTable(&solver);
-  return solver;
-}
-
 TEST_CASE("stiff food (E = 10 MPa) stays stable", "[mpm][stability]") {
-  Solver<float> solver = BlockSolver(testing::SoftMaterial(10e6, 0.3));
+  Solver<float> solver = testing::SmallBlockOnBoard(testing::SoftMaterial(10e6, 0.3));
   CutScenario scenario;
   scenario.start_height_m = 0.043;
   scenario.end_height_m = 0.036;  // 4 mm into the block: the CFL step of 10 MPa is tiny
@@ -55,7 +45,7 @@ TEST_CASE("stiff food (E = 10 MPa) stays stable", "[mpm][stability]") {
 }
 
 TEST_CASE("a knife at 3.6 m/s stays stable", "[mpm][stability]") {
-  Solver<float> solver = BlockSolver(testing::SoftMaterial(5e4, 0.3));
+  Solver<float> solver = testing::SmallBlockOnBoard(testing::SoftMaterial(5e4, 0.3));
   CutScenario scenario;
   scenario.start_height_m = 0.045;
   scenario.speed_m_s = 3.6;  // the paper's unsafe knife speed
@@ -66,7 +56,7 @@ TEST_CASE("a knife at 3.6 m/s stays stable", "[mpm][stability]") {
 }
 
 TEST_CASE("nearly incompressible flesh (nu = 0.49) stays stable", "[mpm][stability]") {
-  Solver<float> solver = BlockSolver(testing::SoftMaterial(5e4, 0.49));
+  Solver<float> solver = testing::SmallBlockOnBoard(testing::SoftMaterial(5e4, 0.49));
   CutScenario scenario;
   scenario.start_height_m = 0.045;
   scenario.speed_m_s = 1.0;
@@ -76,7 +66,7 @@ TEST_CASE("nearly incompressible flesh (nu = 0.49) stays stable", "[mpm][stabili
 }
 
 TEST_CASE("a thin slice at ratio 0.1 stays stable", "[mpm][stability]") {
-  Solver<float> solver = BlockSolver(testing::SoftMaterial(5e4, 0.3));
+  Solver<float> solver = testing::SmallBlockOnBoard(testing::SoftMaterial(5e4, 0.3));
   CutScenario scenario;
   scenario.cut_x_m = 0.48 + 0.1 * 0.04;  // 4 mm from the block's end: one cell
   scenario.start_height_m = 0.045;
@@ -86,7 +76,7 @@ TEST_CASE("a thin slice at ratio 0.1 stays stable", "[mpm][stability]") {
 }
 
 TEST_CASE("50 saw strokes stay stable", "[mpm][stability]") {
-  Solver<float> solver = BlockSolver(testing::SoftMaterial(5e4, 0.3));
+  Solver<float> solver = testing::SmallBlockOnBoard(testing::SoftMaterial(5e4, 0.3));
   CutScenario scenario;
   scenario.start_height_m = 0.042;
   scenario.end_height_m = 0.03;
