@@ -23,7 +23,7 @@ def episode_path(root: Path, key: str) -> Path:
 def write_episode(path: Path, meta: dict, steps: dict[str, np.ndarray]) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     temporary = path.with_name(path.name + ".tmp")
-    with h5py.File(temporary, "w", track_order=True) as file:
+    with h5py.File(temporary, "w") as file:
         file.attrs["format"] = FORMAT
         file.attrs["meta"] = json.dumps(meta, sort_keys=True)
         for name in sorted(steps):
