@@ -97,6 +97,32 @@ def cmd_verify(args) -> int:
     return 0 if report.ok else EXIT_FAILED
 
 
+def cmd_teleop(args) -> int:
+    """Serves the teleoperation page until Ctrl-C; demonstrations go to --out."""
+    import tornado.ioloop
+    from culinarycut.client import Client
+    from culinarycut.datasets.jobs import DatasetConfig, job_scene
+    from culinarycut.datasets.teleop.app import make_app
+    from culinarycut.datasets.teleop.session import TeleopSession
+    client = Client(args.server, timeout_s=600.0)
+    spec = client.tasks.parse_instruction(args.instruction)["spec"]
+    config = DatasetConfig(name="teleop", seed=args.seed, tasks=(spec,), episodes_per_task=1, quality=args.quality,
+                           image_size=args.image_size)
+    variation = {"position_m": [0.5, 0.0], "yaw_deg": 0.0, "scale": 1.0, "food": spec["target_object"]}
+    scene = {**job_scene(config, variation, args.seed), "task": {"instruction": args.instruction}}
+    session = TeleopSession(client, scene, spec, args.seed, Path(args.out), operator=args.operator)
+    app = make_app(client, session)
+    app.listen(args.port, address=args.host)
+    print(f"teleoperation of session {session.session_id}: http://{args.host}:{args.port}/ "
+          f"(watch any session at /watch/SESSION_ID); demonstrations go to {args.out}", flush=True)
+    try:
+        tornado.ioloop.IOLoop.current().start()
+    finally:
+        session.close()
+        client.close()
+    return 0
+
+
 def register(sub) -> None:
     data = sub.add_parser("data", help="datasets: generate, export, verify, card, teleop")
     data.set_defaults(func=run_command, timeout=30.0)
@@ -137,6 +163,19 @@ def register(sub) -> None:
     ver.add_argument("--server", metavar="HOST:PORT", help="server for the replays")
     ver.add_argument("--replay", type=int, default=-1, help="episodes to replay (default all; 0 none)")
     ver.set_defaults(data_func=cmd_verify)
+
+    tel = commands.add_parser("teleop", help="drive the knife from the browser and record demonstrations")
+    tel.add_argument("--server", default="127.0.0.1:50051", metavar="HOST:PORT", help="the simulator")
+    tel.add_argument("--out", required=True, help="folder for the demonstration files")
+    tel.add_argument("--instruction", default="cut the cucumber at 0.3 ratio from the left",
+                     help="the task demonstrated (its cut spec is stored with the demonstration)")
+    tel.add_argument("--seed", type=int, default=0, help="the scene's reset seed")
+    tel.add_argument("--quality", default="draft", help="MPM preset")
+    tel.add_argument("--image-size", type=int, default=224, help="square camera images, pixels")
+    tel.add_argument("--host", default="127.0.0.1", help="address the page is served on")
+    tel.add_argument("--port", type=int, default=8008, help="port the page is served on")
+    tel.add_argument("--operator", default="", help="who demonstrates (stored in the file)")
+    tel.set_defaults(data_func=cmd_teleop)
 
 
 def run_command(args) -> int:
