@@ -194,3 +194,14 @@ def test_same_seed_same_episode_bytes(dataset, tmp_path):
         original = dataset["root"] / next(r["file"] for r in store.rows() if r["key"] == job.key)
     again = tmp_path / original.relative_to(dataset["root"])
     assert again.read_bytes() == original.read_bytes()
+
+
+def test_dataset_card(dataset, tmp_path):
+    from culinarycut.datasets.card import write_card
+    card = write_card(dataset["root"], tmp_path).read_text()
+    assert "3 kept trajectories of 3 generated (100 % pass the success filter)" in card
+    assert "| planner/normal-ratio-0.3-cucumber | 1 | 1 |" in card
+    for picture in ("card_frames.png", "card_trajectories.png"):
+        image = cv2.imread(str(tmp_path / picture))
+        assert image is not None and image.shape[0] > 200, picture
+        assert f"]({picture})" in card

@@ -66,12 +66,13 @@ def cmd_generate(args) -> int:
     config = config_from_args(args)
     with _servers(args) as servers:
         try:
-            server_versions(servers)
+            versions = server_versions(servers)
         except RunError as err:
             print(f"error: {err}", file=sys.stderr)
             return EXIT_FAILED
         summary = generate(config, Path(args.out), servers, workers=args.workers, shard_size=args.shard_size,
-                           scheduler=args.scheduler, progress=not args.no_progress)
+                           scheduler=args.scheduler, progress=not args.no_progress,
+                           provenance={"servers": {s: list(v) for s, v in versions.items()}})
     print(f"{args.out}: {summary.kept} kept of {summary.already_done + summary.ran} finished jobs "
           f"({summary.jobs} in the dataset); this run: {summary.ran} in {summary.wall_s:.1f} s")
     return 0
@@ -95,6 +96,12 @@ def cmd_verify(args) -> int:
         print(f"  problem: {problem}")
     print("ok" if report.ok else f"{len(report.problems)} problem(s)")
     return 0 if report.ok else EXIT_FAILED
+
+
+def cmd_card(args) -> int:
+    from culinarycut.datasets.card import write_card
+    print(f"wrote {write_card(Path(args.dataset), Path(args.out) if args.out else None)}")
+    return 0
 
 
 def cmd_teleop(args) -> int:
@@ -163,6 +170,11 @@ def register(sub) -> None:
     ver.add_argument("--server", metavar="HOST:PORT", help="server for the replays")
     ver.add_argument("--replay", type=int, default=-1, help="episodes to replay (default all; 0 none)")
     ver.set_defaults(data_func=cmd_verify)
+
+    card = commands.add_parser("card", help="a dataset card (README.md) with counts, filter rate and pictures")
+    card.add_argument("dataset", help="a generated dataset folder")
+    card.add_argument("--out", help="folder for README.md and its pictures (default: the dataset folder)")
+    card.set_defaults(data_func=cmd_card)
 
     tel = commands.add_parser("teleop", help="drive the knife from the browser and record demonstrations")
     tel.add_argument("--server", default="127.0.0.1:50051", metavar="HOST:PORT", help="the simulator")

@@ -105,12 +105,14 @@ def _progress(total: int, done: int, enabled: bool):
 
 
 def generate(config: DatasetConfig, root: Path, servers: list[str], *, workers: int = 1, shard_size: int = 4,
-             scheduler: str | None = None, progress: bool = True) -> GenerateSummary:
+             scheduler: str | None = None, progress: bool = True,
+             provenance: dict | None = None) -> GenerateSummary:
+    """Runs the jobs without a row; `provenance` (e.g. server versions) is kept in the store for the card."""
     started = time.perf_counter()
     root.mkdir(parents=True, exist_ok=True)
     jobs = make_jobs(config)
     with GenerationStore(root) as store:
-        store.claim_config(config.to_json(), {"jobs": len(jobs)})
+        store.claim_config(config.to_json(), {"jobs": len(jobs), **(provenance or {})})
         (root / CONFIG_NAME).write_text(json.dumps(json.loads(config.to_json()), indent=2, sort_keys=True))
         ingest_row_files(store, root)
         done = store.done_keys()
