@@ -41,14 +41,17 @@ class Demonstration:
         return json.dumps({"format": FORMAT, **asdict(self)}, sort_keys=True)
 
 
-def save_demonstration(demo: Demonstration, path: str | Path) -> Path:
-    """Written to a temporary name and renamed, so a reader never sees half a file."""
-    path = Path(path)
+def write_text_atomic(path: Path, text: str) -> Path:
+    """Written to a temporary name and renamed, so a reader (or a resumed run) never sees half a file."""
     path.parent.mkdir(parents=True, exist_ok=True)
     temporary = path.with_name(path.name + ".tmp")
-    temporary.write_text(demo.to_json())
+    temporary.write_text(text)
     os.replace(temporary, path)
     return path
+
+
+def save_demonstration(demo: Demonstration, path: str | Path) -> Path:
+    return write_text_atomic(Path(path), demo.to_json())
 
 
 def load_demonstration(path: str | Path) -> Demonstration:

@@ -10,14 +10,14 @@ and overwrites its half-made outputs with the same bytes, so no episode is lost 
 from __future__ import annotations
 
 import json
-import os
-import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
 from culinarycut.bench.dispatch import _worker_server_order, start_cluster
+from culinarycut.bench.runner import _progress
 from culinarycut.client import Client
+from culinarycut.datasets.demo import write_text_atomic
 from culinarycut.datasets.episode_file import episode_path, write_episode
 from culinarycut.datasets.jobs import DatasetConfig, EpisodeJob, make_jobs, shards
 from culinarycut.datasets.record import record_episode
@@ -45,14 +45,6 @@ def row_path(root: Path, key: str) -> Path:
     return root / "rows" / (key.replace("/", "__") + ".json")
 
 
-def _write_row(root: Path, row: dict) -> None:
-    path = row_path(root, row["key"])
-    path.parent.mkdir(parents=True, exist_ok=True)
-    temporary = path.with_name(path.name + ".tmp")
-    temporary.write_text(json.dumps(row, sort_keys=True))
-    os.replace(temporary, path)
-
-
 def run_job(job: EpisodeJob, config: DatasetConfig, root: Path, server: str) -> dict:
     started = time.perf_counter()
     with Client(server, timeout_s=RPC_TIMEOUT_S) as client:
@@ -65,7 +57,7 @@ def run_job(job: EpisodeJob, config: DatasetConfig, root: Path, server: str) -> 
     row = {"key": job.key, "seed": job.seed, "source": job.source, "kept": int(episode.success),
            "reason": episode.reason, "steps": len(episode.steps.get("rewards", ())), "file": file,
            "server": server, "wall_s": time.perf_counter() - started}
-    _write_row(root, row)
+    write_text_atomic(row_path(root, job.key), json.dumps(row, sort_keys=True))
     return row
 
 
@@ -96,12 +88,6 @@ def ingest_row_files(store: GenerationStore, root: Path) -> int:
     for path in sorted(folder.glob("*.json")) if folder.is_dir() else ():
         added += store.record(json.loads(path.read_text()))
     return added
-
-
-def _progress(total: int, done: int, enabled: bool):
-    from tqdm import tqdm
-    return tqdm(total=total, initial=done, unit="episode", disable=not enabled, dynamic_ncols=True,
-                smoothing=0.1, file=sys.stderr)
 
 
 def generate(config: DatasetConfig, root: Path, servers: list[str], *, workers: int = 1, shard_size: int = 4,

@@ -14,13 +14,11 @@ from typing import Any
 
 import numpy as np
 
-from culinarycut.bench.episode_scene import BOARD_CENTER_XY_M, CUTTING_EFFECTS, FOODS
+from culinarycut.bench.episode_scene import BOARD_CENTER_XY_M, CUTTING_EFFECTS, _yaw_quaternion
 
 STYLES = ("normal", "bias", "guillotine", "saw")
 RATIOS = (0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9)
 SPLITS = (3, 4, 5)
-# The food's default pose has its long axis along world y; yaw is about world z on top of that.
-DEFAULT_YAW_RAD = math.pi / 2
 
 
 @dataclass(frozen=True)
@@ -101,11 +99,6 @@ def derive_seed(*parts: Any) -> int:
     return int.from_bytes(digest[:8], "little") >> 1
 
 
-def _yaw_quaternion(yaw_rad: float) -> list[float]:
-    half = 0.5 * yaw_rad
-    return [math.cos(half), 0.0, 0.0, math.sin(half)]
-
-
 def draw_variation(config: DatasetConfig, spec: dict, seed: int) -> dict[str, Any]:
     rng = np.random.Generator(np.random.PCG64(seed))
     r = config.randomisation
@@ -123,7 +116,7 @@ def draw_variation(config: DatasetConfig, spec: dict, seed: int) -> dict[str, An
 def job_scene(config: DatasetConfig, variation: dict, seed: int) -> dict:
     food = {"food": variation["food"], "scale": variation["scale"],
             "pose": {"position": variation["position_m"],
-                     "quaternion": _yaw_quaternion(DEFAULT_YAW_RAD + math.radians(variation["yaw_deg"]))}}
+                     "quaternion": _yaw_quaternion(math.radians(variation["yaw_deg"]))}}  # about the default 90 deg
     if config.material_overrides:
         food["material_overrides"] = dict(config.material_overrides)
     size = config.image_size

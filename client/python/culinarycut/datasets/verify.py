@@ -92,7 +92,7 @@ def verify(root: Path, server: str | None = None, replay_count: int | None = Non
     files = {root / row["file"] for row in kept_rows}
     strays = set((root / "episodes").glob("*.h5")) - files
     report.problems += [f"episode file {p.name} is not in the store" for p in sorted(strays)]
-    to_replay = kept_rows if replay_count is None else kept_rows[:replay_count]
+    to_replay = {row['key'] for row in (kept_rows if replay_count is None else kept_rows[:replay_count])}
     client = Client(server, timeout_s=600.0) if to_replay and server else None
     if to_replay and client is None:
         report.problems.append("replaying needs a server (--server)")
@@ -100,7 +100,7 @@ def verify(root: Path, server: str | None = None, replay_count: int | None = Non
         for row in kept_rows:
             meta, steps, problems = check_episode_file(root / row["file"])
             report.problems += problems
-            if problems or client is None or row not in to_replay:
+            if problems or client is None or row["key"] not in to_replay:
                 continue
             report.problems += replay(client, meta, steps)
             report.replayed += 1

@@ -9,7 +9,7 @@ import numpy as np
 from google.protobuf import json_format
 
 from culinarycut.client import Client
-from culinarycut.datasets.demo import save_demonstration
+from culinarycut.datasets.demo import load_demonstration, save_demonstration
 from culinarycut.datasets.demo_recorder import DemoRecorder
 from culinarycut.env import CulinaryCutEnv
 
@@ -64,7 +64,6 @@ class TeleopSession:
             raise ValueError(f"rating must be one of {RATINGS}")
         if not self.saved:
             raise ValueError("no recorded demonstration to rate")
-        from culinarycut.datasets.demo import load_demonstration
         demo = load_demonstration(self.saved[-1])
         demo.rating = rating
         return save_demonstration(demo, self.saved[-1])
