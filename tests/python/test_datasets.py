@@ -205,3 +205,14 @@ def test_dataset_card(dataset, tmp_path):
         image = cv2.imread(str(tmp_path / picture))
         assert image is not None and image.shape[0] > 200, picture
         assert f"]({picture})" in card
+
+
+def test_a_failed_episode_is_rejected_with_its_reason(dataset, tmp_path):
+    """Too few steps to finish the cut: no episode file, the row says why."""
+    config = DatasetConfig(name="short", seed=3, tasks=(RATIO_SPEC,), episodes_per_task=1, image_size=SIZE,
+                           max_episode_steps=15)
+    row = run_job(make_jobs(config)[0], config, tmp_path, dataset["address"])
+    assert row["kept"] == 0 and row["file"] is None and row["steps"] == 15
+    assert row["reason"].startswith("truncated"), row["reason"]
+    assert not (tmp_path / "episodes").exists()
+    assert json.loads((tmp_path / "rows" / (row["key"].replace("/", "__") + ".json")).read_text()) == row

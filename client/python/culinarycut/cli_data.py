@@ -46,7 +46,8 @@ def config_from_args(args):
     return DatasetConfig(name=args.name, seed=args.seed, tasks=tasks, episodes_per_task=args.episodes_per_task,
                          demos=tuple(str(Path(d).resolve()) for d in args.demo or ()), randomisation=randomisation,
                          quality=args.quality, cameras=tuple(args.cameras.split(",")), image_size=args.image_size,
-                         max_episode_steps=args.max_steps)
+                         max_episode_steps=args.max_steps, paraphrase_endpoint=args.paraphrase_endpoint or "",
+                         paraphrase_model=args.paraphrase_model or "")
 
 
 @contextlib.contextmanager
@@ -150,6 +151,9 @@ def register(sub) -> None:
     gen.add_argument("--cameras", default="front,left,right", help="comma list of camera names")
     gen.add_argument("--image-size", type=int, default=224, help="square camera images, pixels")
     gen.add_argument("--max-steps", type=int, default=600, help="control steps per episode at most")
+    gen.add_argument("--paraphrase-endpoint", help="an OpenAI-compatible endpoint (e.g. http://localhost:8000/v1) "
+                                                 "whose paraphrases, checked by the server's parser, are added")
+    gen.add_argument("--paraphrase-model", help="the endpoint's model name")
     gen.add_argument("--server", action="append", metavar="HOST:PORT", help="a culinarycut-server (repeatable)")
     gen.add_argument("--local-servers", type=int, default=0, help="start this many servers here for the run")
     gen.add_argument("--workers", type=int, default=1, help="Dask workers of the local cluster")

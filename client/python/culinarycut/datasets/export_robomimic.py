@@ -52,7 +52,7 @@ def export_robomimic(root: Path, out: Path, valid_fraction: float = 0.1) -> Path
             demo.attrs["key"] = meta["key"]
             names.append(name)
             total += len(steps["actions"])
-            env_args = env_args or {"env_name": "CulinaryCut", "type": 4,  # robomimic's EnvType for "other"
+            env_args = env_args or {"env_name": "CulinaryCut", "type": 4,  # none of robomimic's EnvTypes (1-3)
                                     "env_kwargs": {"control_mode": meta["control_mode"],
                                                    "quality": meta["resolved_scene"].get("quality", ""),
                                                    "contact_phases": list(PHASES)}}

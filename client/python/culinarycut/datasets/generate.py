@@ -22,7 +22,7 @@ from culinarycut.datasets.episode_file import episode_path, write_episode
 from culinarycut.datasets.jobs import DatasetConfig, EpisodeJob, make_jobs, shards
 from culinarycut.datasets.record import record_episode
 from culinarycut.datasets.store import GenerationStore
-from culinarycut.errors import Unavailable
+from culinarycut.errors import CulinaryCutError, Unavailable
 
 CONFIG_NAME = "dataset_config.json"
 RPC_TIMEOUT_S = 600.0
@@ -46,17 +46,25 @@ def row_path(root: Path, key: str) -> Path:
 
 
 def run_job(job: EpisodeJob, config: DatasetConfig, root: Path, server: str) -> dict:
+    """One job on `server`; a request the server refuses (e.g. a plan it cannot make for the drawn object)
+    is a rejected job with the server's reason. Unavailable goes up: the job moves to another server."""
     started = time.perf_counter()
-    with Client(server, timeout_s=RPC_TIMEOUT_S) as client:
-        episode = record_episode(job, config, client)
-    file = None
-    if episode.success:
-        path = episode_path(root, job.key)
-        write_episode(path, episode.meta, episode.steps)
-        file = str(path.relative_to(root))
-    row = {"key": job.key, "seed": job.seed, "source": job.source, "kept": int(episode.success),
-           "reason": episode.reason, "steps": len(episode.steps.get("rewards", ())), "file": file,
-           "server": server, "wall_s": time.perf_counter() - started}
+    row = {"key": job.key, "seed": job.seed, "source": job.source, "kept": 0, "steps": 0, "file": None,
+           "server": server}
+    try:
+        with Client(server, timeout_s=RPC_TIMEOUT_S) as client:
+            episode = record_episode(job, config, client)
+    except Unavailable:
+        raise
+    except CulinaryCutError as err:
+        row["reason"] = f"server_error: {err.code.name}: {err.details}"[:2000]
+    else:
+        if episode.success:
+            path = episode_path(root, job.key)
+            write_episode(path, episode.meta, episode.steps)
+            row["file"] = str(path.relative_to(root))
+        row.update(kept=int(episode.success), reason=episode.reason, steps=len(episode.steps.get("rewards", ())))
+    row["wall_s"] = time.perf_counter() - started
     write_text_atomic(row_path(root, job.key), json.dumps(row, sort_keys=True))
     return row
 

@@ -49,6 +49,10 @@ class DatasetConfig:
     instructions_per_episode: int = 5
     max_episode_steps: int = 600
     material_overrides: dict = field(default_factory=lambda: {"youngs_modulus_pa": 2e5})
+    # optional paraphrases of the instructions by an OpenAI-compatible endpoint (culinarycut.paraphrase);
+    # off when empty. Only paraphrases the server parses back to the same cut are added.
+    paraphrase_endpoint: str = ""
+    paraphrase_model: str = ""
 
     def to_json(self) -> str:
         return json.dumps(dataclasses.asdict(self), sort_keys=True)

@@ -39,6 +39,10 @@ def _observation_arrays(observation: dict) -> dict[str, np.ndarray]:
 def record_episode(job: EpisodeJob, config: DatasetConfig, client: Client) -> RecordedEpisode:
     instructions = client.tasks.generate_instructions(job.spec, seed=job.seed, count=config.instructions_per_episode,
                                                       split="train")
+    paraphrases = []
+    if config.paraphrase_endpoint:
+        from culinarycut.paraphrase import paraphrase
+        paraphrases, _ = paraphrase(client.tasks, instructions, config.paraphrase_endpoint, config.paraphrase_model)
     scene = {**job.scene, "task": {"instruction": instructions[0]}}
     columns: dict[str, list] = {}
     with CulinaryCutEnv(client=client, scene=scene, control_mode=config.control_mode) as env:
@@ -84,7 +88,8 @@ def record_episode(job: EpisodeJob, config: DatasetConfig, client: Client) -> Re
         steps["dones"] = np.zeros(len(steps["rewards"]), dtype=np.uint8)
         steps["dones"][-1] = 1
     meta = {"key": job.key, "seed": job.seed, "source": job.source, "cut_spec": job.spec,
-            "variation": job.variation, "instructions": instructions, "resolved_scene": resolved,
+            "variation": job.variation, "instructions": instructions + paraphrases,
+            "paraphrases": len(paraphrases), "resolved_scene": resolved,
             "control_mode": config.control_mode, "score_summary": score.get("summary", ""),
             "pieces": len(info_end.get("food", {}).get("pieces", []))}
     return RecordedEpisode(job=job, success=success, reason=reason if success else
