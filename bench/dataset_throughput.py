@@ -30,8 +30,8 @@ PAPER_TRAJECTORIES = 325_000
 STATES = {"ratio": ("ratio-0.3", 9 / 13), "middle": ("middle", 1 / 13), "split": ("split-3", 3 / 13)}
 
 
-def generate(out: Path, servers: list[str], workers: int, quality: str, size: int) -> float:
-    command = [sys.executable, "-m", "culinarycut", "data", "generate", "--out", str(out), "--styles", "all",
+def generate(out: Path, servers: list[str], workers: int, quality: str, size: int, styles: str) -> float:
+    command = [sys.executable, "-m", "culinarycut", "data", "generate", "--out", str(out), "--styles", styles,
                "--states", ",".join(s for s, _ in STATES.values()), "--quality", quality, "--image-size", str(size),
                "--workers", str(workers), "--shard-size", "1", "--no-progress"]
     for server in servers:
@@ -49,14 +49,18 @@ def main() -> int:
     parser.add_argument("--servers", type=int, default=2)
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--image-size", type=int, default=224)
-    parser.add_argument("--out", default=str(ROOT / "docs" / "benchmarks" / "dataset_throughput"))
+    parser.add_argument("--styles", default="all", help="a sample of the styles (comma list) for slow presets")
+    parser.add_argument("--out", help="output path without suffix (default docs/benchmarks/dataset_throughput, "
+                                      "with _QUALITY for other presets than draft)")
     args = parser.parse_args()
+    suffix = "" if args.quality == "draft" else f"_{args.quality}"
+    args.out = args.out or str(ROOT / "docs" / "benchmarks" / f"dataset_throughput{suffix}")
     with tempfile.TemporaryDirectory() as scratch:
         folder = Path(scratch)
         servers = [ServerProcess(max_sessions=4) for _ in range(args.servers)]
         try:
             wall_s = generate(folder / "data", [s.address for s in servers], args.workers, args.quality,
-                              args.image_size)
+                              args.image_size, args.styles)
         finally:
             for server in servers:
                 server.stop()
@@ -83,7 +87,7 @@ def main() -> int:
     per_kept_s = weighted_s / max(keep_rate, 1e-9) + export_per_episode_s
     result = {"date": date.today().isoformat(), "machine": machine_info(), "quality": args.quality,
               "cameras": "front, left, right RGB", "image_size": args.image_size, "servers": args.servers,
-              "workers": args.workers, "episodes": len(rows), "kept": len(kept), "keep_rate": keep_rate,
+              "workers": args.workers, "servers_used": len({r["server"] for r in rows}), "styles": args.styles, "episodes": len(rows), "kept": len(kept), "keep_rate": keep_rate,
               "run_wall_s": wall_s, "episodes_per_hour": 3600.0 * len(rows) / wall_s,
               "kept_per_hour": 3600.0 * len(kept) / wall_s, "parallelism": parallelism, "by_state": by_state,
               "export_s": export_s, "export_per_episode_s": export_per_episode_s,
@@ -102,9 +106,9 @@ def markdown(r: dict) -> str:
     m = r["machine"]
     lines = [f"# Dataset generation throughput ({r['quality']})", "",
              f"Measured {r['date']} by `bench/dataset_throughput.py` on {m['cpu_model']} ({m['cores']} cores, shared "
-             f"with other work), Python {m['python']}: `culinarycut data generate` with {r['servers']} servers and "
+             f"with other work), Python {m['python']}: `culinarycut data generate` with {r['servers']} servers ({r['servers_used']} used) and "
              f"{r['workers']} Dask workers, three {r['image_size']}x{r['image_size']} RGB cameras, MPM, damage, "
-             "topology and force sensing on, every style on cucumber at ratio 0.3, middle and split into 3.", "",
+             f"topology and force sensing on, styles `{r['styles']}` on cucumber at ratio 0.3, middle and split into 3.", "",
              "| | |", "|---|---|",
              f"| episodes (kept) | {r['episodes']} ({r['kept']}, {100 * r['keep_rate']:.0f} %) |",
              f"| run wall time | {r['run_wall_s']:.0f} s |",
