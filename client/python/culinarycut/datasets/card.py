@@ -13,7 +13,7 @@ import numpy as np
 from culinarycut.datasets.episode_file import read_episode
 from culinarycut.datasets.export import FORMATS
 from culinarycut.datasets.generate import CONFIG_NAME
-from culinarycut.datasets.store import GenerationStore
+from culinarycut.datasets.store import GenerationStore, require_dataset
 
 SAMPLES = 3  # episodes drawn in the pictures
 
@@ -65,6 +65,7 @@ def _trajectories_figure(samples: list[tuple[dict, dict]], path: Path) -> None:
 
 
 def write_card(root: Path, out: Path | None = None) -> Path:
+    require_dataset(root)
     out = out or root
     out.mkdir(parents=True, exist_ok=True)
     config = json.loads((root / CONFIG_NAME).read_text())

@@ -8,13 +8,14 @@ from typing import Iterator
 import numpy as np
 
 from culinarycut.datasets.episode_file import read_episode
-from culinarycut.datasets.store import GenerationStore
+from culinarycut.datasets.store import GenerationStore, require_dataset
 
 # Contact phases as integers (the name list is stored beside the codes in every export).
 PHASES = ("approach", "descend", "cut", "retreat", "transfer", "follow")
 
 
 def kept_files(root: Path) -> list[Path]:
+    require_dataset(root)
     with GenerationStore(root) as store:
         return [root / row["file"] for row in store.rows(kept_only=True)]
 

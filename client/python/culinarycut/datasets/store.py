@@ -17,6 +17,13 @@ class DatasetStoreError(RuntimeError):
     pass
 
 
+def require_dataset(root: Path) -> None:
+    """ValueError unless `root` holds a generated dataset (so reading one never creates an empty one)."""
+    if not (root / DATABASE_NAME).is_file():
+        raise ValueError(f"{root} is not a generated dataset (no {DATABASE_NAME}); make one with "
+                         "culinarycut data generate --out FOLDER")
+
+
 class GenerationStore:
     def __init__(self, root: str | Path):
         self.root = Path(root)
