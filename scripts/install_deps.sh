@@ -21,6 +21,8 @@ PACKAGES=(
   python3 python3-venv python3-grpcio python3-grpc-tools python3-protobuf python3-numpy python3-zmq python3-pytest python3-opencv python3-jsonschema
   # plots in benchmarks, docs and examples
   python3-matplotlib python3-pil
+  # dataset files (HDF5: robomimic/LIBERO and RDT layouts)
+  python3-h5py
 )
 # Only the test suite needs these (scripts/test.sh passes --tests): the HTML benchmark report is
 # checked in a real headless browser, and the fuzz targets build with clang, libFuzzer and sanitizers.

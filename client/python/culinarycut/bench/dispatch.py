@@ -30,9 +30,11 @@ class WorkerResult:
 
 
 def _worker_server_order(servers: list[str]) -> list[str]:
-    """This worker's server first, then the others in turn."""
+    """This worker's server first, then the others in turn. CULINARYCUT_SERVER binds a worker only when it
+    is an address: launch.py (and ctest) read the same variable as the server binary's path, and taking a
+    path for an address had sent every worker past it to the same first server."""
     bound = os.environ.get("CULINARYCUT_SERVER")
-    if bound:
+    if bound and ":" in bound and not os.path.exists(bound):
         return [bound] + [s for s in servers if s != bound]
     try:
         from distributed import get_worker

@@ -1,0 +1,140 @@
+"""`culinarycut data generate`: the dataset's jobs in shards on Dask workers bound to servers (a local
+cluster by default, culinarycut.bench.dispatch), resumable.
+
+Each finished job leaves, in this order, its episode file (kept episodes only) and a row file
+rows/<key>.json, both renamed into place whole. The main process records rows in the generation
+store as shards finish and, on start, first takes in the row files of a run that was killed before
+recording them; a job with a row is never run again, and a job without one is run again from its seed
+and overwrites its half-made outputs with the same bytes, so no episode is lost or duplicated.
+"""
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from culinarycut.bench.dispatch import _worker_server_order, start_cluster
+from culinarycut.bench.runner import _progress
+from culinarycut.client import Client
+from culinarycut.datasets.demo import write_text_atomic
+from culinarycut.datasets.episode_file import episode_path, write_episode
+from culinarycut.datasets.jobs import DatasetConfig, EpisodeJob, make_jobs, shards
+from culinarycut.datasets.record import record_episode
+from culinarycut.datasets.store import GenerationStore
+from culinarycut.errors import CulinaryCutError, Unavailable
+
+CONFIG_NAME = "dataset_config.json"
+RPC_TIMEOUT_S = 600.0
+
+
+class GenerateError(RuntimeError):
+    pass
+
+
+@dataclass
+class GenerateSummary:
+    jobs: int
+    already_done: int
+    ran: int
+    kept: int
+    wall_s: float
+
+
+def row_path(root: Path, key: str) -> Path:
+    return root / "rows" / (key.replace("/", "__") + ".json")
+
+
+def run_job(job: EpisodeJob, config: DatasetConfig, root: Path, server: str) -> dict:
+    """One job on `server`; a request the server refuses (e.g. a plan it cannot make for the drawn object)
+    is a rejected job with the server's reason. Unavailable goes up: the job moves to another server."""
+    started = time.perf_counter()
+    row = {"key": job.key, "seed": job.seed, "source": job.source, "kept": 0, "steps": 0, "file": None,
+           "server": server}
+    try:
+        with Client(server, timeout_s=RPC_TIMEOUT_S) as client:
+            episode = record_episode(job, config, client)
+    except Unavailable:
+        raise
+    except CulinaryCutError as err:
+        row["reason"] = f"server_error: {err.code.name}: {err.details}"[:2000]
+    else:
+        if episode.success:
+            path = episode_path(root, job.key)
+            write_episode(path, episode.meta, episode.steps)
+            row["file"] = str(path.relative_to(root))
+        row.update(kept=int(episode.success), reason=episode.reason, steps=len(episode.steps.get("rewards", ())))
+    row["wall_s"] = time.perf_counter() - started
+    write_text_atomic(row_path(root, job.key), json.dumps(row, sort_keys=True))
+    return row
+
+
+def generate_shard(jobs: list[EpisodeJob], config_json: str, root: str, servers: list[str]) -> list[dict]:
+    """Runs on a Dask worker: the shard's jobs that have no row file yet, on this worker's server first."""
+    config, root_path = DatasetConfig.from_json(config_json), Path(root)
+    rows = []
+    for job in jobs:
+        existing = row_path(root_path, job.key)
+        if existing.is_file():
+            rows.append(json.loads(existing.read_text()))
+            continue
+        lost = []
+        for server in _worker_server_order(servers):
+            try:
+                rows.append(run_job(job, config, root_path, server))
+                break
+            except Unavailable as err:
+                lost.append(f"{server}: {err.details}")
+        else:
+            raise GenerateError(f"job {job.key}: no server answered ({'; '.join(lost)})")
+    return rows
+
+
+def ingest_row_files(store: GenerationStore, root: Path) -> int:
+    folder = root / "rows"
+    added = 0
+    for path in sorted(folder.glob("*.json")) if folder.is_dir() else ():
+        added += store.record(json.loads(path.read_text()))
+    return added
+
+
+def generate(config: DatasetConfig, root: Path, servers: list[str], *, workers: int = 1, shard_size: int = 4,
+             scheduler: str | None = None, progress: bool = True,
+             provenance: dict | None = None) -> GenerateSummary:
+    """Runs the jobs without a row; `provenance` (e.g. server versions) is kept in the store for the card."""
+    started = time.perf_counter()
+    root.mkdir(parents=True, exist_ok=True)
+    jobs = make_jobs(config)
+    with GenerationStore(root) as store:
+        store.claim_config(config.to_json(), {"jobs": len(jobs), **(provenance or {})})
+        (root / CONFIG_NAME).write_text(json.dumps(json.loads(config.to_json()), indent=2, sort_keys=True))
+        ingest_row_files(store, root)
+        done = store.done_keys()
+        pending = [job for job in jobs if job.key not in done]
+        already, ran = len(jobs) - len(pending), 0
+        bar = _progress(len(jobs), already, progress)
+        dask_client = cluster = None
+        try:
+            if pending:
+                dask_client, cluster = start_cluster(scheduler, workers)
+                from distributed import as_completed
+                futures = [dask_client.submit(generate_shard, shard, config.to_json(), str(root), servers,
+                                              retries=2, pure=False, key=f"shard-{i}-{shard[0].key}")
+                           for i, shard in enumerate(shards(pending, shard_size))]
+                run_started = time.perf_counter()
+                for future in as_completed(futures):
+                    for row in future.result():
+                        ran += store.record(row)
+                        bar.update(1)
+                    hours = (time.perf_counter() - run_started) / 3600.0
+                    bar.set_postfix_str(f"{ran / max(hours, 1e-9):.0f} episodes/h, kept "
+                                        f"{len(store.rows(kept_only=True))}/{already + ran}")
+        finally:
+            bar.close()
+            if dask_client is not None:
+                dask_client.close()
+            if cluster is not None:
+                cluster.close()
+        kept = len(store.rows(kept_only=True))
+    return GenerateSummary(jobs=len(jobs), already_done=already, ran=ran, kept=kept,
+                           wall_s=time.perf_counter() - started)

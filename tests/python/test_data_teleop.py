@@ -1,0 +1,111 @@
+"""Teleoperation end to end in headless Chromium: keys pressed in the page move the knife in the
+simulator (read back with Observe, not through the page), recording saves a demonstration file that
+holds the path and the rating given in the page, and a second page watches the session read only."""
+from __future__ import annotations
+
+import json
+import socket
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+from culinarycut import Client
+from culinarycut.datasets.demo import load_demonstration
+
+
+def _free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return probe.getsockname()[1]
+
+
+@pytest.fixture
+def teleop(address, tmp_path):
+    port = _free_port()
+    process = subprocess.Popen([sys.executable, "-m", "culinarycut", "data", "teleop", "--server", address,
+                                "--out", str(tmp_path / "demos"), "--port", str(port), "--image-size", "64"],
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    line = process.stdout.readline()
+    if "teleoperation of session" not in line:
+        process.kill()
+        pytest.fail(f"teleop did not start: {line}{process.stdout.read()}")
+    session = line.split("session ")[1].split(":")[0]
+    yield {"url": f"http://127.0.0.1:{port}", "session": session, "demos": tmp_path / "demos"}
+    process.terminate()
+    process.wait(timeout=20)
+
+
+@pytest.fixture
+def browser():
+    from selenium import webdriver
+    options = webdriver.ChromeOptions()
+    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"):
+        options.add_argument(flag)
+    driver = webdriver.Chrome(options=options)
+    yield driver
+    driver.quit()
+
+
+def _tcp(client: Client, session: str) -> np.ndarray:
+    return np.asarray(client.observe(session).observation.tcp_pose[:3])
+
+
+def _wait(condition, timeout_s: float, what: str):
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        value = condition()
+        if value:
+            return value
+        time.sleep(0.1)
+    pytest.fail(f"timed out waiting for {what}")
+
+
+def test_keys_in_the_page_move_the_knife_and_record_a_demonstration(teleop, browser, address):
+    from selenium.webdriver.common.action_chains import ActionChains
+    client = Client(address, timeout_s=60)
+    start = _tcp(client, teleop["session"])
+    browser.get(teleop["url"] + "/")
+    _wait(lambda: browser.execute_script(
+        "const i = document.getElementById('camera-front'); return i && i.complete && i.naturalWidth;"),
+        30, "the front camera image")
+    assert browser.execute_script("return document.getElementById('camera-front').naturalWidth") == 64
+    _wait(lambda: browser.find_element("id", "force").text not in ("", "-"), 10, "the force readout")
+
+    browser.find_element("id", "record").click()
+    _wait(lambda: browser.find_element("id", "status").text == "recording", 10, "recording to start")
+    body = browser.find_element("tag name", "body")
+    ActionChains(browser).move_to_element(body).key_down("q").pause(1.5).key_up("q").perform()  # up
+    ActionChains(browser).key_down("a").pause(1.0).key_up("a").perform()                      # +y, robot's left
+    _wait(lambda: int(browser.find_element("id", "steps").text) >= 10, 20, "steps from the keys")
+    time.sleep(0.5)
+    moved = _tcp(client, teleop["session"]) - start
+    assert moved[2] > 0.02, f"Q should raise the knife: moved {moved} m"
+    assert moved[1] > 0.01, f"A should move it to +y: moved {moved} m"
+
+    browser.find_element("id", "record").click()
+    _wait(lambda: browser.find_element("id", "status").text.startswith("saved demo_"), 20, "the saved file")
+    browser.find_element("id", "good").click()
+    _wait(lambda: "marked good" in browser.find_element("id", "status").text, 10, "the rating")
+
+    files = sorted(teleop["demos"].glob("demo_*.json"))
+    assert len(files) == 1
+    demo = load_demonstration(files[0])
+    assert demo.rating == "good" and demo.control_mode == "pd_ee_delta_pose"
+    assert demo.spec["target_object"] == "cucumber" and demo.spec["ratio"] == pytest.approx(0.3)
+    relative = np.asarray(demo.relative_pose)
+    assert len(relative) >= 10 and relative[-1, 2] > relative[0, 2]  # higher above the object at the end
+    assert json.loads(files[0].read_text())["resolved_scene"]["objects"][0]["food"] == "cucumber"
+
+    # a read-only view of the same session: no controls, and keys there do not step it
+    steps_before = int(browser.find_element("id", "steps").text)
+    browser.get(teleop["url"] + f"/watch/{teleop['session']}")
+    assert browser.find_element("tag name", "h1").text.startswith("Watching (read only)")
+    assert not browser.find_element("id", "controls").is_displayed()
+    frame = client.observe(teleop["session"]).stamp.frame_id
+    ActionChains(browser).key_down("q").pause(0.5).key_up("q").perform()
+    _wait(lambda: browser.find_element("id", "frame").text == str(frame), 10, "the watched frame id")
+    assert client.observe(teleop["session"]).stamp.frame_id == frame
+    assert frame >= steps_before
+    client.close()
