@@ -48,7 +48,7 @@ class DatasetConfig:
     control_mode: str = "pd_ee_pose_quat"
     instructions_per_episode: int = 5
     max_episode_steps: int = 600
-    material_overrides: dict = field(default_factory=lambda: {"youngs_modulus_pa": 2e5})
+    material_overrides: dict = field(default_factory=dict)  # the foods' real presets unless overridden
     # optional paraphrases of the instructions by an OpenAI-compatible endpoint (culinarycut.paraphrase);
     # off when empty. Only paraphrases the server parses back to the same cut are added.
     paraphrase_endpoint: str = ""
