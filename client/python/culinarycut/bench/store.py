@@ -75,16 +75,33 @@ class StoreError(RuntimeError):
     pass
 
 
-class ResultStore:
+class DurableDatabase:
+    """An SQLite file that keeps every committed transaction through a crash (WAL journal, synchronous=FULL)
+    and lets readers look while a writer writes; a context manager that closes it."""
+
+    def __init__(self, path: Path):
+        self.db = sqlite3.connect(path, timeout=30.0, isolation_level=None)
+        self.db.execute("PRAGMA journal_mode=WAL")
+        self.db.execute("PRAGMA synchronous=FULL")
+
+    def close(self) -> None:
+        self.db.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+class ResultStore(DurableDatabase):
     """Open (or create) the database in `folder`."""
 
     def __init__(self, folder: str | Path):
         self.folder = Path(folder)
         self.folder.mkdir(parents=True, exist_ok=True)
         self.path = self.folder / DATABASE_NAME
-        self.db = sqlite3.connect(self.path, timeout=30.0, isolation_level=None)
-        self.db.execute("PRAGMA journal_mode=WAL")
-        self.db.execute("PRAGMA synchronous=FULL")
+        super().__init__(self.path)
         columns = ", ".join(f"{name} {kind}" for name, kind, _ in EPISODE_COLUMNS)
         self.db.execute(f"CREATE TABLE IF NOT EXISTS episodes ({columns}, PRIMARY KEY (task, trial))")
         # A run folder from before a column was added gets it (empty for its earlier rows) and resumes.
@@ -95,15 +112,6 @@ class ResultStore:
         self.db.execute("CREATE TABLE IF NOT EXISTS traces (task TEXT NOT NULL, trial INTEGER NOT NULL, "
                         "trace TEXT NOT NULL, PRIMARY KEY (task, trial))")
         self.db.execute("CREATE TABLE IF NOT EXISTS run (key TEXT PRIMARY KEY, value TEXT NOT NULL)")
-
-    def close(self) -> None:
-        self.db.close()
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
     # The run's identity: which suite, policy and server versions its rows belong to.
     def metadata(self) -> dict[str, str]:

@@ -10,6 +10,8 @@ import time
 from pathlib import Path
 from typing import Any
 
+from culinarycut.bench.store import DurableDatabase
+
 DATABASE_NAME = "generation.sqlite"
 
 
@@ -24,26 +26,15 @@ def require_dataset(root: Path) -> None:
                          "culinarycut data generate --out FOLDER")
 
 
-class GenerationStore:
+class GenerationStore(DurableDatabase):
     def __init__(self, root: str | Path):
         self.root = Path(root)
         self.root.mkdir(parents=True, exist_ok=True)
-        self.db = sqlite3.connect(self.root / DATABASE_NAME, timeout=30.0, isolation_level=None)
-        self.db.execute("PRAGMA journal_mode=WAL")
-        self.db.execute("PRAGMA synchronous=FULL")
+        super().__init__(self.root / DATABASE_NAME)
         self.db.execute("CREATE TABLE IF NOT EXISTS jobs (key TEXT PRIMARY KEY, seed INTEGER NOT NULL, "
                         "source TEXT NOT NULL, kept INTEGER NOT NULL, reason TEXT NOT NULL, steps INTEGER NOT NULL, "
                         "file TEXT, server TEXT, wall_s REAL, finished_at REAL)")
         self.db.execute("CREATE TABLE IF NOT EXISTS dataset (key TEXT PRIMARY KEY, value TEXT NOT NULL)")
-
-    def close(self) -> None:
-        self.db.close()
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
     def metadata(self) -> dict[str, str]:
         return dict(self.db.execute("SELECT key, value FROM dataset").fetchall())
