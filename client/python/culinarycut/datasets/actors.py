@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from culinarycut.datasets.contact_phase import DemoContactPhase
 from culinarycut.datasets.demo import Demonstration
 from culinarycut.datasets.demo_recorder import target_object
 from culinarycut.datasets.object_frame import half_extents_in_object_frame, to_world_frame
@@ -25,7 +26,9 @@ class PlannerActor:
     def finished(self) -> bool:
         return self.oracle.finished
 
-    def act(self) -> tuple[np.ndarray, str]:
+    def act(self, observation: dict, info: dict) -> tuple[np.ndarray, str]:
+        """The next action and the phase of the plan's segment it belongs to."""
+        del observation, info  # the server's oracle reads the robot's state itself
         mode, values = self.oracle.act()
         if mode != self.control_mode:
             raise RuntimeError(f"the oracle answered in {mode}, not {self.control_mode}")
@@ -89,7 +92,8 @@ def retarget(demo: Demonstration, object_pose: np.ndarray, half_extents_m: np.nd
 
 
 class DemoActor:
-    """Follows the retargeted path with pd_ee_pose_quat targets, one per control step."""
+    """Follows the retargeted path with pd_ee_pose_quat targets, one per control step; the phase comes
+    from the knife's state relative to the food (DemoContactPhase)."""
 
     control_mode = "pd_ee_pose_quat"
 
@@ -103,12 +107,14 @@ class DemoActor:
         self.dt = control_timestep_s
         self.steps = int(np.ceil(self.time_s[-1] / self.dt)) + SETTLE_STEPS
         self.step = 0
+        self.contact_phase = DemoContactPhase(variation["cut_height_m"])
 
     @property
     def finished(self) -> bool:
         return self.step >= self.steps
 
-    def act(self) -> tuple[np.ndarray, str]:
+    def act(self, observation: dict, info: dict) -> tuple[np.ndarray, str]:
         self.step += 1
-        return resample_path(self.time_s, self.path, self.step * self.dt), "follow"
+        phase = self.contact_phase.phase(observation, info)
+        return resample_path(self.time_s, self.path, self.step * self.dt), phase
 
