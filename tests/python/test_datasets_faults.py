@@ -116,3 +116,14 @@ def test_a_persistent_fault_leaves_the_job_for_the_next_run(address, tmp_path):
 def test_bad_retry_options_are_refused(address, tmp_path):
     result = _generate(address, tmp_path / "data", attempts=0)
     assert result.returncode == 2 and "--attempts" in result.stderr, result.stderr
+
+
+def test_progress_moves_with_each_episode_not_each_shard(address, tmp_path, capfd, monkeypatch):
+    """Three episodes in one shard: the bar shows 1/3 or 2/3 before the shard returns."""
+    from culinarycut.datasets import generate as generate_module
+    monkeypatch.setattr(generate_module, "PROGRESS_POLL_S", 0.05)  # an episode takes longer than this
+    summary = generate_module.generate(_config(3), tmp_path / "data", [address], shard_size=3, progress=True)
+    assert summary.ran == 3
+    err = capfd.readouterr().err
+    assert "1/3" in err or "2/3" in err, err
+    assert "episodes/h" in err and "3/3" in err

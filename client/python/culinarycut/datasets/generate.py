@@ -33,6 +33,7 @@ from culinarycut.errors import CulinaryCutError
 
 CONFIG_NAME = "dataset_config.json"
 RPC_TIMEOUT_S = 600.0
+PROGRESS_POLL_S = 1.0  # how often the progress bar counts the row files the workers have written
 
 
 TRANSIENT_CODES = frozenset({grpc.StatusCode.RESOURCE_EXHAUSTED, grpc.StatusCode.DEADLINE_EXCEEDED,
@@ -137,6 +138,10 @@ def generate_shard(jobs: list[EpisodeJob], config_json: str, root: str, servers:
     return rows
 
 
+def count_files(folder: Path, pattern: str) -> int:
+    return sum(1 for _ in folder.glob(pattern)) if folder.is_dir() else 0
+
+
 def ingest_row_files(store: GenerationStore, root: Path) -> int:
     folder = root / "rows"
     added = 0
@@ -164,21 +169,30 @@ def generate(config: DatasetConfig, root: Path, servers: list[str], *, workers: 
         try:
             if pending:
                 dask_client, cluster = start_cluster(scheduler, workers)
-                from distributed import as_completed
+                from distributed import wait
+                run_started, rows_before = time.perf_counter(), count_files(root / "rows", "*.json")
+                kept_before = count_files(root / "episodes", "*.h5")
                 futures = [dask_client.submit(generate_shard, shard, config.to_json(), str(root), servers,
                                               retry, retries=2, pure=False, key=f"shard-{i}-{shard[0].key}")
                            for i, shard in enumerate(shards(pending, shard_size))]
-                run_started = time.perf_counter()
-                for future in as_completed(futures):
-                    for row in future.result():
-                        if "error" in row:
-                            errors += 1
-                            continue
-                        ran += store.record(row)
-                        bar.update(1)
+                while futures:
+                    try:
+                        wait(futures, timeout=PROGRESS_POLL_S, return_when="FIRST_COMPLETED")
+                    except TimeoutError:
+                        pass  # no shard done yet: the bar still moves with each episode's row file
+                    for future in [f for f in futures if f.done()]:
+                        for row in future.result():
+                            if "error" in row:
+                                errors += 1
+                                continue
+                            ran += store.record(row)
+                    futures = [f for f in futures if not f.done()]
+                    finished = count_files(root / "rows", "*.json") - rows_before  # episode by episode
+                    bar.update(max(0, already + finished - bar.n))
                     hours = (time.perf_counter() - run_started) / 3600.0
-                    bar.set_postfix_str(f"{ran / max(hours, 1e-9):.0f} episodes/h, kept "
-                                        f"{len(store.rows(kept_only=True))}/{already + ran}")
+                    kept_now = count_files(root / "episodes", "*.h5") - kept_before
+                    bar.set_postfix_str(f"{finished / max(hours, 1e-9):.0f} episodes/h, kept {kept_now}/{finished}"
+                                        + (f", {errors} errors" if errors else ""))
         finally:
             bar.close()
             if dask_client is not None:
