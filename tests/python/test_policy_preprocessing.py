@@ -174,9 +174,49 @@ def test_axis_angle_of_a_quarter_turn():
 
 # --- actions and chunks -------------------------------------------------------------------------------
 def test_delta_action_in_control_units_and_gripper_dropped():
-    mode, values = actions.delta_to_ee_delta_pose([0.01, -0.02, 0.0, 0.05, 0.0, -0.1, 1.0])
+    mode, values = actions.delta_to_ee_delta_pose([0.01, -0.02, 0.0, 0.05, 0.0, -0.1, 1.0], "metres_radians")
     assert mode == "pd_ee_delta_pose"
     np.testing.assert_allclose(values, [0.1, -0.2, 0.0, 0.5, 0.0, -1.0])
+
+
+@pytest.mark.parametrize("units, action, expected", [
+    # pd_ee_delta_pose's own units (ManiSkill): 1 = 0.1 m / 0.1 rad already, passed through unchanged
+    ("maniskill_normalised", [0.3, -0.5, 0.0, 0.2, 0.0, -1.0, 1.0], [0.3, -0.5, 0.0, 0.2, 0.0, -1.0]),
+    # robosuite OSC_POSE (LIBERO): 1 = 0.05 m -> 0.5 of ours, 1 = 0.5 rad -> 5 of ours; input clipped to [-1, 1]
+    ("robosuite_osc", [0.2, -0.4, 1.0, 0.02, -0.1, 0.0, -1.0], [0.1, -0.2, 0.5, 0.1, -0.5, 0.0]),
+    ("robosuite_osc", [3.0, -2.0, 0.0, 0.0, 0.0, 7.0], [0.5, -0.5, 0.0, 0.0, 0.0, 5.0]),
+    ("metres_radians", [0.005, 0.0, -0.01, 0.0, 0.02, 0.0], [0.05, 0.0, -0.1, 0.0, 0.2, 0.0]),
+])
+def test_delta_action_units_golden(units, action, expected):
+    mode, values = actions.delta_to_ee_delta_pose(action, units)
+    assert mode == "pd_ee_delta_pose"
+    np.testing.assert_allclose(values, expected, atol=1e-12)
+
+
+def test_action_units_come_from_the_statistics_or_the_option(tmp_path):
+    policy_support.write_statistics(tmp_path)
+    path = tmp_path / "dataset_statistics.json"
+    stats, units = actions.load_delta_ee_statistics(path, policy_support.DELTA_KEY, None, policy="t", proprio=True)
+    assert units == "metres_radians" and stats.key == policy_support.DELTA_KEY
+    with pytest.raises(statistics.StatisticsError, match="option action_units='robosuite_osc' contradicts"):
+        actions.load_delta_ee_statistics(path, policy_support.DELTA_KEY, "robosuite_osc", policy="t", proprio=False)
+    with pytest.raises(ValueError, match="option action_units='inches'; choose one of metres_radians"):
+        actions.load_delta_ee_statistics(path, policy_support.DELTA_KEY, "inches", policy="t", proprio=False)
+    # the RDT key is in another layout: refused, naming both
+    with pytest.raises(statistics.StatisticsError, match="has action_layout 'rdt_unified_16', but this adapter "
+                                                         "reads 'delta_ee_xyz_euler_xyz_gripper'"):
+        actions.load_delta_ee_statistics(path, policy_support.RDT_KEY, None, policy="t", proprio=False)
+    # without unnorm_key the one key in the adapter's layout is chosen
+    assert actions.load_delta_ee_statistics(path, None, None, policy="t", proprio=False)[0].key == policy_support.DELTA_KEY
+    # a file that does not say its units (upstream's own statistics) needs the option
+    document = json.loads(path.read_text())
+    for field in ("action_units", "action_layout", "proprio_layout"):
+        del document[policy_support.DELTA_KEY][field]
+    bare = tmp_path / "upstream.json"
+    bare.write_text(json.dumps({"bridge_orig": document[policy_support.DELTA_KEY]}))
+    with pytest.raises(statistics.StatisticsError, match="does not say its action_units; set option action_units="):
+        actions.load_delta_ee_statistics(bare, None, None, policy="t", proprio=False)
+    assert actions.load_delta_ee_statistics(bare, None, "robosuite_osc", policy="t", proprio=False)[1] == "robosuite_osc"
     mode, values = actions.pose_to_ee_pose_quat([0.5, 0, 0.2], np.diag([1.0, -1.0, -1.0]))
     assert mode == "pd_ee_pose_quat"
     np.testing.assert_allclose(values, [0.5, 0, 0.2, 0, 1, 0, 0], atol=1e-12)
