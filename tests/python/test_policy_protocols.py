@@ -7,9 +7,11 @@ import asyncio
 import http.client
 import json
 import socket
+import tempfile
 import threading
 import time
 import urllib.request
+from pathlib import Path
 
 import json_numpy
 import numpy as np
@@ -412,6 +414,41 @@ def test_rdt_state_layout_and_pose_target_over_the_wire(tmp_path):
     assert mode == "pd_ee_pose_quat"
     np.testing.assert_allclose(target[:3], [0.0, -0.05, 0.25], atol=1e-6)
     np.testing.assert_allclose(target[3:], TCP_QUATERNION, atol=1e-6)  # the pose it was sent comes back
+
+
+def test_rdt_images_are_jpeg_round_tripped_and_t_minus_1_is_the_previous_step():
+    from culinarycut_policies.images import jpeg_roundtrip, pad_square_resize
+    from culinarycut_policies.rdt import RDTPolicy
+    requests = []
+
+    def model(request):
+        requests.append(request)
+        return {"actions": np.repeat(np.asarray(request["state"], dtype=np.float32), 64, axis=1)}
+
+    server = WebsocketPolicyServer(model, {"model_family": "rdt", "action_horizon": 64}).start()
+    try:
+        with tempfile.TemporaryDirectory() as folder:
+            statistics = policy_support.write_statistics(Path(folder))
+            policy = RDTPolicy(url=server.url, statistics=statistics, execute_steps=2)
+        policy.reset("cut", {})
+        frames = [observation(seed) for seed in range(4)]
+        for frame in frames:
+            policy.act(frame)
+        policy.close()
+    finally:
+        server.stop()
+
+    def expected(step, camera):  # agilex_inference.py's jpeg_mapping, then expand2square and the 384 resize
+        return pad_square_resize(jpeg_roundtrip(frames[step]["sensor_data"][camera]["rgb"]), 384)
+
+    assert len(requests) == 2  # steps 0 and 2; step 1 only keeps its raw frames
+    first, second = requests[0]["images"], requests[1]["images"]
+    assert first[:3] == [None, None, None] and first[5] is None and second[2] is None and second[5] is None
+    for got, (step, camera) in ((first[3], (0, "front")), (first[4], (0, "wrist")), (second[0], (1, "front")),
+                                (second[1], (1, "wrist")), (second[3], (2, "front")), (second[4], (2, "wrist"))):
+        np.testing.assert_array_equal(got, expected(step, camera))
+    without_jpeg = pad_square_resize(frames[2]["sensor_data"]["front"]["rgb"], 384)
+    assert np.abs(second[3].astype(int) - without_jpeg).max() > 8  # the round trip changes noisy frames
 
 
 def test_rest_reopens_a_keep_alive_connection_the_server_closed():
