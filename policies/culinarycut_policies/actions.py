@@ -27,7 +27,7 @@ CLIPPED_UNITS = ("robosuite_osc",)
 assert set(UNIT_SCALES) == set(ACTION_UNITS)
 
 
-def action_units(stats: DatasetStatistics | None, option: str | None, policy: str) -> str:
+def resolve_action_units(stats: DatasetStatistics | None, option: str | None, policy: str) -> str:
     """The units of the model's delta actions: the statistics' `action_units`, or option action_units for
     a file that does not say (a model trained elsewhere); the two must agree when both are given."""
     if option is not None and option not in UNIT_SCALES:
@@ -55,7 +55,7 @@ def load_delta_ee_statistics(path: str | None, key: str | None, units_option: st
     require_layout(stats, policy=policy, action_layout=DELTA_EE_ACTION,
                    proprio_layout=DELTA_EE_PROPRIO if proprio else None,
                    hint=" (`culinarycut data export` writes it under the key NAME_delta_ee: option unnorm_key)")
-    return stats, action_units(stats, units_option, policy)
+    return stats, resolve_action_units(stats, units_option, policy)
 
 
 def delta_to_ee_delta_pose(action: np.ndarray, units: str) -> tuple[str, np.ndarray]:

@@ -277,3 +277,31 @@ def test_msgpack_numpy_matches_openpi_client_both_ways():
     hostile = upstream.Packer().pack({b"__ndarray__": True, b"data": b"", b"dtype": "|O", b"shape": [0]})
     with pytest.raises(ValueError, match="refusing numpy dtype object"):
         msgpack_numpy.unpackb(hostile)
+
+
+# --- RDT language embeddings -----------------------------------------------------------------------------
+def test_rdt_embeddings_from_encode_lang_pt_files_or_npz(tmp_path):
+    from culinarycut_policies import rdt_language
+    npz = tmp_path / "instructions.npz"
+    np.savez(npz, **{"cut the cucumber": np.full((1, 3, 4096), 0.5, np.float32)})
+    loaded = rdt_language.load_embeddings(str(npz))
+    assert list(loaded) == ["cut the cucumber"] and loaded["cut the cucumber"].shape == (3, 4096)
+    np.savez(tmp_path / "bad.npz", x=np.zeros((3, 512), np.float32))
+    with pytest.raises(ValueError, match=r"bad.npz\['x'\]: expected embeddings \(1, L, 4096\)"):
+        rdt_language.load_embeddings(str(tmp_path / "bad.npz"))
+    try:
+        import torch
+    except ImportError:
+        torch = None
+    pt = tmp_path / "cut.pt"
+    if torch is None:  # the message says what to do
+        pt.write_bytes(b"not read")
+        with pytest.raises(ValueError, match="needs torch, which is not importable here"):
+            rdt_language.load_embeddings(str(pt))
+        return
+    # encode_lang.py's file: {"name", "instruction", "embeddings" (1, L, 4096)}
+    torch.save({"name": "cut", "instruction": "cut the apple", "embeddings": torch.full((1, 4, 4096), 0.25)}, pt)
+    loaded = rdt_language.load_embeddings(str(tmp_path))  # a folder of .pt files
+    assert list(loaded) == ["cut the apple"] and loaded["cut the apple"].shape == (4, 4096)
+    assert rdt_language.main([str(tmp_path / "out.npz"), str(pt)]) == 0
+    np.testing.assert_array_equal(np.load(tmp_path / "out.npz")["cut the apple"], loaded["cut the apple"])
