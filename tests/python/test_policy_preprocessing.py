@@ -207,7 +207,8 @@ def test_action_units_come_from_the_statistics_or_the_option(tmp_path):
                                                          "reads 'delta_ee_xyz_euler_xyz_gripper'"):
         actions.load_delta_ee_statistics(path, policy_support.RDT_KEY, None, policy="t", proprio=False)
     # without unnorm_key the one key in the adapter's layout is chosen
-    assert actions.load_delta_ee_statistics(path, None, None, policy="t", proprio=False)[0].key == policy_support.DELTA_KEY
+    chosen, _ = actions.load_delta_ee_statistics(path, None, None, policy="t", proprio=False)
+    assert chosen.key == policy_support.DELTA_KEY
     # a file that does not say its units (upstream's own statistics) needs the option
     document = json.loads(path.read_text())
     for field in ("action_units", "action_layout", "proprio_layout"):
@@ -216,7 +217,8 @@ def test_action_units_come_from_the_statistics_or_the_option(tmp_path):
     bare.write_text(json.dumps({"bridge_orig": document[policy_support.DELTA_KEY]}))
     with pytest.raises(statistics.StatisticsError, match="does not say its action_units; set option action_units="):
         actions.load_delta_ee_statistics(bare, None, None, policy="t", proprio=False)
-    assert actions.load_delta_ee_statistics(bare, None, "robosuite_osc", policy="t", proprio=False)[1] == "robosuite_osc"
+    _, units = actions.load_delta_ee_statistics(bare, None, "robosuite_osc", policy="t", proprio=False)
+    assert units == "robosuite_osc"
     mode, values = actions.pose_to_ee_pose_quat([0.5, 0, 0.2], np.diag([1.0, -1.0, -1.0]))
     assert mode == "pd_ee_pose_quat"
     np.testing.assert_allclose(values, [0.5, 0, 0.2, 0, 1, 0, 0], atol=1e-12)

@@ -324,7 +324,7 @@ def test_adapters_check_the_server_metadata(tmp_path):
     short = WebsocketPolicyServer(echo_model, {"model_family": "rdt", "action_horizon": 32}).start()
     try:
         rdt = RDTPolicy(url=short.url, statistics=statistics, execute_steps=48)
-        with pytest.raises(PolicyServerError, match="execute_steps=48 exceeds the action_horizon 32 .*execute_steps<=32"):
+        with pytest.raises(PolicyServerError, match="execute_steps=48 exceeds the action_horizon 32 .*<=32"):
             rdt.reset("cut", {})
         rdt.close()
         rdt = RDTPolicy(url=short.url, statistics=statistics, execute_steps=32)

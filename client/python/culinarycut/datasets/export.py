@@ -5,7 +5,8 @@ from __future__ import annotations
 import logging
 from pathlib import Path
 
-from culinarycut.datasets.adapter_layouts import DELTA_MODES, delta_ee_actions, delta_ee_proprio, rdt_actions, rdt_states
+from culinarycut.datasets.adapter_layouts import (DELTA_MODES, delta_ee_actions, delta_ee_proprio, rdt_actions,
+                                                  rdt_states)
 from culinarycut.datasets.episodes import action_names, iter_episodes, proprio, proprio_names
 from culinarycut.datasets.export_lerobot import export_lerobot
 from culinarycut.datasets.export_rdt import export_rdt
