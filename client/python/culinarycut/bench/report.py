@@ -156,7 +156,7 @@ def build_blocks(runs: list[Run]) -> list[Block]:
         [(run.label, run.rows) for run in runs]), name="success_per_food.png"))
     ratio_foods = sorted({r["food"] for run in runs for r in run.rows if r["state"] == "ratio"})
     for food in ratio_foods:
-        if len({r["ratio"] for run in runs for r in run.rows if r["state"] == "ratio" and r["food"] == food}) >= 3:
+        if report_charts.radar_sides([(run.label, run.rows) for run in runs], food):
             blocks.append(Block("image", f"Ratio cuts on {food}", data=report_charts.ratio_radar(
                 [(run.label, run.rows) for run in runs], food), name=f"ratio_radar_{food}.png"))
     if any(r["state"] == "split" for run in runs for r in run.rows):
