@@ -51,8 +51,9 @@ def load_run(folder: Path) -> Run:
         metadata = store.metadata()
     if not rows:
         raise ReportError(f"{folder} holds no episodes yet")
-    versions = sorted({f"{r['server_version']} ({r['build_id'] or '?'})" for r in rows})
-    label = f"{metadata.get('policy', rows[0]['policy'])} @ {', '.join(versions)}"
+    # A server_error before the server said its version leaves the row without one: it names no build.
+    versions = sorted({f"{r['server_version']} ({r['build_id'] or '?'})" for r in rows if r["server_version"]})
+    label = f"{metadata.get('policy', rows[0]['policy'])} @ {', '.join(versions) or 'unknown server'}"
     return Run(label, folder, metadata, rows, traces)
 
 
