@@ -122,6 +122,18 @@ void VisitFood(Archive& archive, const Model& model, FoodState& food) {
   if constexpr (Archive::kReading) food.particle_bounds = ParticleBounds(food.solver->particles());
 }
 
+template <typename Archive>
+void VisitSafety(Archive& archive, safety::EpisodeSafety& safety) {
+  for (int i = 0; i < safety::kGuardCount; ++i) {
+    archive.Scalar((std::string("safety.interventions.") + safety::kGuardNames[i]).c_str(), safety.interventions[i]);
+  }
+  archive.Scalar("safety.peak_knife_force_n", safety.peak_knife_force_n);
+  archive.Scalar("safety.peak_cutting_speed_m_s", safety.peak_cutting_speed_m_s);
+  archive.Scalar("safety.v_safe_m_s", safety.v_safe_m_s);
+  archive.Scalar("safety.predicted_force_n", safety.predicted_force_n);
+  archive.Scalar("safety.out_of_range", safety.out_of_range);
+}
+
 }  // namespace state_fields_detail
 
 // Walks every field of a reset `state` (for reading: a state whose physics world and food were
@@ -139,6 +151,7 @@ void VisitState(Archive& archive, const Model& model, State& state) {
   archive.Vector("robot.qvel_rad_s", qdot, dof);
   if constexpr (Archive::kReading) state.physics->SetJointState(q, qdot);
   archive.Vector("robot.q_target_rad", state.q_target_rad, dof);
+  state_fields_detail::VisitSafety(archive, state.safety);
   if (state.food) state_fields_detail::VisitFood(archive, model, *state.food);
 }
 
