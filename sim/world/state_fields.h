@@ -145,13 +145,13 @@ void VisitState(Archive& archive, const Model& model, State& state) {
   archive.Scalar("sim_time_s", state.sim_time_s);
   archive.Scalar("seed", state.seed);
   archive.Scalar("episode_steps", state.episode_steps);
+  state_fields_detail::VisitSafety(archive, state.safety);
   Eigen::VectorXd q = state.physics->JointPositions();
   Eigen::VectorXd qdot = state.physics->JointVelocities();
   archive.Vector("robot.qpos_rad", q, dof);
   archive.Vector("robot.qvel_rad_s", qdot, dof);
   if constexpr (Archive::kReading) state.physics->SetJointState(q, qdot);
   archive.Vector("robot.q_target_rad", state.q_target_rad, dof);
-  state_fields_detail::VisitSafety(archive, state.safety);
   if (state.food) state_fields_detail::VisitFood(archive, model, *state.food);
 }
 
