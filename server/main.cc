@@ -61,6 +61,9 @@ int main(int argc, char** argv) {
                "allow a non-loopback --listen without TLS and authentication (anyone who reaches it controls every "
                "session)");
   app.add_option("--robot-urdf", options.robot_urdf_path, "robot description (default: the shipped Panda with knife)");
+  app.add_option("--safety-model", options.safety_model_path,
+                 "the safety limiter's fitted force model (default: assets/safety/force_model.json); when missing or "
+                 "invalid the server starts without the limiter and says why");
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")
       ->capture_default_str()
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));

@@ -102,8 +102,11 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   render::RendererOptions render_options;
   render_options.robot = robot.visuals;  // the URDF parsed once, by the robot description
   renderer_ = std::make_unique<SharedRenderer>(render_options);
+  SafetyModelSource safety_model = LoadSafetyModel(
+      options.safety_model_path.empty() ? safety::DefaultForceModelPath() : options.safety_model_path);
   service_ = std::make_unique<SimulatorService>(std::move(robot), sessions_.get(), telemetry_.get(), renderer_.get(),
-                                                SnapshotSeal(options.snapshot_key_file), options.max_handler_threads);
+                                                SnapshotSeal(options.snapshot_key_file), options.max_handler_threads,
+                                                std::move(safety_model));
   task_service_ = std::make_unique<TaskService>(sessions_.get());
 
   grpc::EnableDefaultHealthCheckService(true);
