@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "sim/mpm/food_shapes.h"
+#include "sim/mpm/specimen_shapes.h"
 #include "sim/world/model.h"
 
 namespace culinarycut {
@@ -147,7 +148,8 @@ FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout)
     const std::string field = "scene.objects[" + std::to_string(i) + "]";
     std::unique_ptr<mpm::FoodShape> shape;
     try {
-      shape = mpm::MakeFoodShape(food.food, food.scale);
+      shape = food.specimen ? mpm::MakeSpecimenShape(food.specimen->kind, food.specimen->size_m)
+                            : mpm::MakeFoodShape(food.food, food.scale);
     } catch (const std::invalid_argument& error) {
       throw SceneError(field + ": " + error.what());
     }

@@ -38,6 +38,13 @@ struct SafetyConfig {
 };
 
 // One food object on the board.
+// A reference specimen's shape in place of the food's (sim/mpm/specimen_shapes.h); the food still
+// gives the material. Set by cc-cut for the reference cuts; the wire has no such field.
+struct SpecimenConfig {
+  std::string kind;        // box, half_cylinder
+  Eigen::Vector3d size_m;  // (length along the long axis, width, height)
+};
+
 struct FoodConfig {
   std::string food;                                // banana, cucumber, apple, peach, melon, orange, strawberry
   double scale = 1.0;                              // multiplies the food's typical size
@@ -46,6 +53,7 @@ struct FoodConfig {
   std::optional<Eigen::Quaterniond> orientation;   // default: long axis left-right (world y), lying
   std::string material;                            // preset name; empty: the food's own
   std::map<std::string, double> material_overrides;  // youngs_modulus_pa, poisson_ratio, density_kg_m3, ...
+  std::optional<SpecimenConfig> specimen;          // a reference specimen's shape instead of the food's
 };
 
 // Explicit MPM resolution; each set value overrides the quality preset's.

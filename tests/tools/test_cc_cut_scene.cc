@@ -268,3 +268,39 @@ TEST_CASE("a cc-cut run cuts a turned cucumber into two pieces where asked", "[c
 
 }  // namespace
 }  // namespace culinarycut::cc_cut
+
+namespace culinarycut::cc_cut {
+namespace {
+
+TEST_CASE("cc-cut cuts a reference specimen of a food's material: its shape replaces the food's",
+          "[cc_cut][cut_scene][specimen]") {
+  const std::string specimen = R"(, "specimen": {"shape": "box", "size_m": [0.06, 0.05, 0.03]})";
+  const CutScene scene = CutSceneFromJson("{" + kSmallScene + specimen + "}");
+  REQUIRE(scene.specimen.has_value());
+  const CutModel cut = CompileCut(scene);
+  // The box's extent, the food's material, and a box's particle count (volume / dx^3 * ppc).
+  CHECK(cut.food.objects.at(0).extent_m.isApprox(Eigen::Vector3d(0.06, 0.05, 0.03)));
+  CHECK(cut.food.solver->materials.at(0).youngs_modulus_pa == 5e4);
+  const double dx = cut.food.resolution.dx_m;
+  const double cells = 0.06 * 0.05 * 0.03 / (dx * dx * dx);
+  CHECK(static_cast<double>(cut.food.initial_particles.size()) ==
+        Approx(cells * cut.food.resolution.particles_per_cell).epsilon(0.35));
+  // The file round-trips with its specimen.
+  const CutScene again = CutSceneFromJson(CutSceneToJson(scene));
+  REQUIRE(again.specimen.has_value());
+  CHECK(again.specimen->kind == "box");
+  CHECK(again.specimen->size_m.isApprox(scene.specimen->size_m));
+}
+
+TEST_CASE("a bad specimen is refused naming the field", "[cc_cut][cut_scene][specimen]") {
+  CHECK_THAT(ErrorFor("{" + kSmallScene + R"(, "specimen": {"shape": "cone", "size_m": [0.1, 0.1, 0.05]}})"),
+             Catch::Contains("specimen") && Catch::Contains("unknown specimen 'cone'"));
+  CHECK_THAT(ErrorFor("{" + kSmallScene + R"(, "specimen": {"shape": "half_cylinder", "size_m": [0.1, 0.1, 0.1]}})"),
+             Catch::Contains("twice its height"));
+  CHECK_THAT(ErrorFor("{" + kSmallScene + R"(, "specimen": {"shape": "box"}})"), Catch::Contains("specimen.size_m"));
+  CHECK_THAT(ErrorFor("{" + kSmallScene + R"(, "specimen": {"shape": "box", "size_m": [0.1, 0.1], "x": 1}})"),
+             Catch::Contains("specimen.size_m"));
+}
+
+}  // namespace
+}  // namespace culinarycut::cc_cut

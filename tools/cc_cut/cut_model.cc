@@ -9,6 +9,7 @@
 #include "server/wire/scene.h"
 #include "sim/core/stage_timer.h"
 #include "sim/mpm/solver.h"
+#include "sim/mpm/specimen_shapes.h"
 #include "sim/task/object_box.h"
 #include "tools/cc_cut/json_object_reader.h"
 
@@ -50,6 +51,14 @@ CutModel CompileCut(const CutScene& scene) {
     throw std::invalid_argument(unavailable.what());
   }
   if (const auto error = ValidateSceneConfig(model.config)) throw std::invalid_argument(*error);
+  if (scene.specimen) {
+    try {
+      mpm::MakeSpecimenShape(scene.specimen->kind, scene.specimen->size_m);  // checked here to name the field
+    } catch (const std::invalid_argument& error) {
+      FailField("specimen", error.what());
+    }
+    model.config.foods.front().specimen = scene.specimen;
+  }
   const auto start = std::chrono::steady_clock::now();
   model.food = CompileFoodModel(model.config, model.layout);
   model.compile_ms = MillisecondsSince(start);

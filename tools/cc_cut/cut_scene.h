@@ -3,9 +3,11 @@
 // and overrides of the solver's numbers. Schema and units: tools/cc_cut/README.md.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "culinarycut/v1/scene.pb.h"
+#include "sim/world/scene_config.h"
 #include "tools/cc_cut/knife_path.h"
 #include "tools/cc_cut/solver_overrides.h"
 
@@ -16,6 +18,7 @@ struct CutScene {
   v1::SceneSpec scene;      // as the server reads it; cc-cut needs exactly one food object
   SolverOverrides solver;
   KnifePath knife;
+  std::optional<SpecimenConfig> specimen;  // cut a reference specimen of the food's material instead
 };
 
 // Parses a file's text; absent fields keep their defaults. Throws std::invalid_argument whose

@@ -135,6 +135,18 @@ json KnifeJson(const KnifePath& k) {
   return knife;
 }
 
+// {"shape": "box" | "half_cylinder", "size_m": [length, width, height]}: shapes are checked at compile.
+SpecimenConfig ReadSpecimen(const json& object) {
+  JsonObjectReader reader(object, "specimen");
+  SpecimenConfig specimen;
+  if (!reader.String("shape", &specimen.kind)) FailField("specimen.shape", "is missing: box or half_cylinder");
+  const std::vector<double> size = reader.Numbers("size_m", 3);
+  if (size.empty()) FailField("specimen.size_m", "is missing: [length, width, height] in m");
+  specimen.size_m = Eigen::Vector3d(size[0], size[1], size[2]);
+  reader.Finish();
+  return specimen;
+}
+
 }  // namespace
 
 CutScene CutSceneFromJson(const std::string& json_text) {
@@ -150,15 +162,20 @@ CutScene CutSceneFromJson(const std::string& json_text) {
   if (const json* spec = reader.Object("scene")) scene.scene = SceneSpecFromJson(*spec, "scene");
   if (const json* solver = reader.Object("solver")) ReadSolver(*solver, &scene.solver);
   if (const json* knife = reader.Object("knife")) ReadKnife(*knife, &scene.knife);
+  if (const json* specimen = reader.Object("specimen")) scene.specimen = ReadSpecimen(*specimen);
   reader.Finish(kMovedTopLevelKeys);
   return scene;
 }
 
 std::string CutSceneToJson(const CutScene& scene) {
-  const json root = {{"description", scene.description},
-                     {"scene", SceneSpecToJson(scene.scene)},
-                     {"solver", SolverJson(scene.solver)},
-                     {"knife", KnifeJson(scene.knife)}};
+  json root = {{"description", scene.description},
+               {"scene", SceneSpecToJson(scene.scene)},
+               {"solver", SolverJson(scene.solver)},
+               {"knife", KnifeJson(scene.knife)}};
+  if (scene.specimen) {
+    const Eigen::Vector3d& size = scene.specimen->size_m;
+    root["specimen"] = {{"shape", scene.specimen->kind}, {"size_m", {size.x(), size.y(), size.z()}}};
+  }
   return root.dump(2);
 }
 
