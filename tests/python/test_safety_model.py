@@ -133,15 +133,18 @@ def write_synthetic_dataset(directory, x: np.ndarray, forces: np.ndarray) -> Non
         "engine_builds": ["synthetic"], "quality": "draft", "dx_m": 0.008, "sweep": {}, "sweeps": []}))
     with open(directory / ROWS_FILE, "w") as f:
         for i, (row, force) in enumerate(zip(x, forces)):
-            f.write(json.dumps({"key": str(i), **dict(zip(INPUTS, row.tolist())), "peak_blade_force_n": force}) + "\n")
+            f.write(json.dumps({"key": str(i), "food": "cucumber", "scale": 0.5, "speed_requested_m_s": row[0],
+                                **dict(zip(INPUTS, row.tolist())), "peak_blade_force_n": force}) + "\n")
 
 
 def test_fit_and_predict_through_the_cli_write_and_read_a_valid_asset(tmp_path):
     x = synthetic_inputs(120, seed=4)
     write_synthetic_dataset(tmp_path / "data", x, true_force(x))
     asset_path = tmp_path / "force_model.json"
-    done = cli("fit", str(tmp_path / "data"), "--out", str(asset_path))
+    done = cli("fit", str(tmp_path / "data"), "--out", str(asset_path), "--plots", str(tmp_path / "images"))
     assert done.returncode == 0, done.stderr
+    assert {p.name for p in (tmp_path / "images").iterdir()} == {"safety_force_predicted_vs_measured.png",
+                                                                "safety_force_vs_speed.png"}
     asset = json.loads(asset_path.read_text())
     validate(asset)
     assert asset["fit"]["r2_held_out"] > 0.9999 and asset["fit"]["monotonic_in_speed"] is True
@@ -212,6 +215,9 @@ def test_the_dataset_command_runs_real_cuts_and_resumes(tmp_path, cc_cut):
     (out / ROWS_FILE).write_text("\n".join(lines[1:]) + "\n")
     fourth = cli("dataset", "--out", str(out), "--cc-cut", cc_cut, *TINY)
     assert "this run: 1 in" in fourth.stdout and len(read_rows(out)) == 2
+    # Every run's count and wall time is in the header: the throughput report reads them.
+    runs = json.loads((out / HEADER_FILE).read_text())["runs"]
+    assert [r["ran"] for r in runs] == [2, 0, 2, 1] and all(r["wall_s"] >= 0 and r["workers"] == 2 for r in runs)
 
 
 @pytest.mark.parametrize("args, named", [

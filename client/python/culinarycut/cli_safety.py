@@ -85,6 +85,11 @@ def cmd_fit(args) -> int:
         return EXIT_FAILED
     write_asset(asset, Path(args.out))
     print(f"wrote {args.out}")
+    if args.plots:
+        from culinarycut.safety.model_io import inputs_and_forces
+        from culinarycut.safety.plots import plot_fit
+        for path in plot_fit(result, x, inputs_and_forces(rows)[1], rows, Path(args.plots)):
+            print(f"wrote {path}")
     return 0
 
 
@@ -149,6 +154,7 @@ def register(sub) -> None:
     fit.add_argument("--out", default="assets/safety/force_model.json", help="the asset (default %(default)s)")
     fit.add_argument("--held-out", type=float, default=0.2, help="fraction of samples held out (default %(default)s)")
     fit.add_argument("--seed", type=int, default=0, help="seed of the held-out split and the folds")
+    fit.add_argument("--plots", metavar="DIR", help="also draw predicted vs measured and force vs speed (PNG) there")
     fit.set_defaults(safety_func=cmd_fit)
 
     pred = commands.add_parser("predict", help="the model's peak force at a speed and the safe speed under F_max")

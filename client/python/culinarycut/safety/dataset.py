@@ -7,6 +7,7 @@ import hashlib
 import json
 import os
 import platform
+import time
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from dataclasses import dataclass
 from datetime import datetime, timezone
@@ -113,8 +114,6 @@ class SweepResult:
 
 def run_sweep(sweep: Sweep, directory: Path, cc_cut: Path, workers: int, progress: bool = True) -> SweepResult:
     """Run every sample of the sweep not yet in DIR, `workers` cc-cut processes at a time."""
-    import time
-
     from tqdm import tqdm
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
@@ -129,7 +128,9 @@ def run_sweep(sweep: Sweep, directory: Path, cc_cut: Path, workers: int, progres
     todo.sort(key=lambda s: s.youngs_modulus_mpa ** 0.5 * s.scale / s.speed_m_s, reverse=True)
     scratch = directory / "scratch"
     started = time.perf_counter()
+    started_at = datetime.now(timezone.utc).isoformat(timespec="seconds")
     failed = 0
+    cut_wall_s = 0.0  # the cuts' own wall time, summed over the workers
     fd = os.open(rows_path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644)
     try:
         with ThreadPoolExecutor(max_workers=workers) as pool, \
@@ -148,6 +149,7 @@ def run_sweep(sweep: Sweep, directory: Path, cc_cut: Path, workers: int, progres
                             bar.write(f"failed: {err}")
                             continue
                         _append(fd, {**row, "engine_build": build, "quality": sweep.quality})
+                        cut_wall_s += row["wall_s"]
                         bar.update(1)
             except BaseException:
                 for future in pending:
@@ -157,9 +159,14 @@ def run_sweep(sweep: Sweep, directory: Path, cc_cut: Path, workers: int, progres
         os.close(fd)
     if scratch.exists() and not any(scratch.iterdir()):
         scratch.rmdir()
+    wall_s = time.perf_counter() - started
     rows = read_rows(directory)
     if rows and "dx_m" not in header:  # the preset's resolution, as the engine resolved it
         header["dx_m"] = rows[0]["dx_m"]
-        _write_header(directory, header)
+    # What this run did and how long it took: the throughput report (bench/safety_dataset.py) reads it.
+    header.setdefault("runs", []).append({
+        "started": started_at, "wall_s": round(wall_s, 1), "ran": len(todo) - failed, "failed": failed,
+        "workers": workers, "cpu_count": os.cpu_count(), "cut_wall_s": round(cut_wall_s, 1)})
+    _write_header(directory, header)
     return SweepResult(total=len(samples), already_done=len(samples) - len(todo), ran=len(todo) - failed,
-                       failed=failed, wall_s=time.perf_counter() - started)
+                       failed=failed, wall_s=wall_s)
