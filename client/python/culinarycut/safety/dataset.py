@@ -7,6 +7,8 @@ import hashlib
 import json
 import os
 import platform
+import shutil
+import tempfile
 import time
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from dataclasses import dataclass
@@ -126,7 +128,7 @@ def run_sweep(sweep: Sweep, directory: Path, cc_cut: Path, workers: int, progres
     todo = [s for s in samples if s.key() not in done]
     # Slow cuts first: a stiff food at a low speed takes the most substeps, so the pool ends together.
     todo.sort(key=lambda s: s.youngs_modulus_mpa ** 0.5 * s.scale / s.speed_m_s, reverse=True)
-    scratch = directory / "scratch"
+    scratch = Path(tempfile.mkdtemp(prefix="culinarycut-safety-"))  # cc-cut's outputs, read and removed per cut
     started = time.perf_counter()
     started_at = datetime.now(timezone.utc).isoformat(timespec="seconds")
     failed = 0
@@ -157,8 +159,7 @@ def run_sweep(sweep: Sweep, directory: Path, cc_cut: Path, workers: int, progres
                 raise
     finally:
         os.close(fd)
-    if scratch.exists() and not any(scratch.iterdir()):
-        scratch.rmdir()
+        shutil.rmtree(scratch, ignore_errors=True)
     wall_s = time.perf_counter() - started
     rows = read_rows(directory)
     if rows and "dx_m" not in header:  # the preset's resolution, as the engine resolved it
