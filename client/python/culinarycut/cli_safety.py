@@ -136,13 +136,13 @@ def register(sub) -> None:
     ds.add_argument("--speeds", type=_numbers("--speeds"), nargs="+", metavar="M_S",
                     help="knife descent speeds, m/s (default: 5 log-spaced from 0.02 to 4)")
     ds.add_argument("--foods", nargs="+", metavar="FOOD", help="foods (default: cucumber apple)")
-    ds.add_argument("--scales", type=_numbers("--scales"), nargs="+", help="food scales (default: 0.4 0.7)")
+    ds.add_argument("--scales", type=_numbers("--scales"), nargs="+", help="food scales (default: 0.4 0.8)")
     ds.add_argument("--youngs-mpa", type=_numbers("--youngs-mpa"), nargs="+", metavar="MPA",
                     help="Young's moduli, MPa (default: 0.1 1 5)")
     ds.add_argument("--yield-kpa", type=_numbers("--yield-kpa"), nargs="+", metavar="KPA",
-                    help="yield stresses, kPa (default: 20 100)")
+                    help="yield stresses, kPa (default: 20 350)")
     ds.add_argument("--toughness", type=_numbers("--toughness"), nargs="+", metavar="J_M2",
-                    help="fracture toughnesses, J/m^2 (default: 60 200)")
+                    help="fracture toughnesses, J/m^2 (default: 50 250)")
     ds.add_argument("--quality", default="draft", help="MPM preset: draft, standard or fine (default %(default)s)")
     ds.add_argument("--workers", type=int, default=2, help="cc-cut processes at a time, one thread each")
     ds.add_argument("--cc-cut", help="the cc-cut binary (default: $CULINARYCUT_CC_CUT or build/tools/cc_cut/cc-cut)")

@@ -50,7 +50,7 @@ def plot_fit(result: FitResult, x: np.ndarray, y: np.ndarray, rows: list[dict], 
         materials = sorted({(rows[i]["youngs_modulus_mpa"], rows[i]["fracture_toughness_j_m2"]) for i in chosen})
         for colour, (e_mpa, g) in zip(plt.cm.viridis(np.linspace(0, 0.9, len(materials))), materials):
             mine = [i for i in chosen if (rows[i]["youngs_modulus_mpa"], rows[i]["fracture_toughness_j_m2"]) == (e_mpa, g)]
-            ax.plot(x[mine, SPEED], y[mine], "o", color=colour, ms=4, label=f"E {e_mpa:g} MPa, G_c {g:g}")
+            ax.plot(x[mine, SPEED], y[mine], "o", color=colour, ms=4, label=f"E {e_mpa:g} MPa, G_c {g:g} J/m^2")
             curve = np.repeat(x[mine[0]][None, :], len(speeds), axis=0)
             curve[:, SPEED] = speeds
             ax.plot(speeds, result.model(curve), "-", color=colour, lw=1)
