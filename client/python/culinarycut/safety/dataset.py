@@ -119,8 +119,15 @@ def run_sweep(sweep: Sweep, directory: Path, cc_cut: Path, workers: int, progres
     from tqdm import tqdm
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
-    header = _open_header(directory, sweep, cc_cut)
-    build = header["engine_builds"][-1]
+    scratch = Path(tempfile.mkdtemp(prefix="culinarycut-safety-"))  # cc-cut's outputs, read and removed per cut
+    # Every cut of a run uses this copy: a rebuild of the binary during the run cannot mix two engines.
+    cc_cut = Path(shutil.copy2(cc_cut, scratch / "cc-cut"))
+    try:
+        header = _open_header(directory, sweep, cc_cut)
+    except BaseException:
+        shutil.rmtree(scratch, ignore_errors=True)
+        raise
+    build = engine_build(cc_cut)
     rows_path = directory / ROWS_FILE
     _drop_partial_line(rows_path)
     done = {row["key"] for row in read_rows(directory)}
@@ -128,7 +135,6 @@ def run_sweep(sweep: Sweep, directory: Path, cc_cut: Path, workers: int, progres
     todo = [s for s in samples if s.key() not in done]
     # Slow cuts first: a stiff food at a low speed takes the most substeps, so the pool ends together.
     todo.sort(key=lambda s: s.youngs_modulus_mpa ** 0.5 * s.scale / s.speed_m_s, reverse=True)
-    scratch = Path(tempfile.mkdtemp(prefix="culinarycut-safety-"))  # cc-cut's outputs, read and removed per cut
     started = time.perf_counter()
     started_at = datetime.now(timezone.utc).isoformat(timespec="seconds")
     failed = 0
@@ -167,7 +173,7 @@ def run_sweep(sweep: Sweep, directory: Path, cc_cut: Path, workers: int, progres
     # What this run did and how long it took: the throughput report (bench/safety_dataset.py) reads it.
     header.setdefault("runs", []).append({
         "started": started_at, "wall_s": round(wall_s, 1), "ran": len(todo) - failed, "failed": failed,
-        "workers": workers, "cpu_count": os.cpu_count(), "cut_wall_s": round(cut_wall_s, 1)})
+        "workers": workers, "cpu_count": os.cpu_count(), "cut_wall_s": round(cut_wall_s, 1), "engine_build": build})
     _write_header(directory, header)
     return SweepResult(total=len(samples), already_done=len(samples) - len(todo), ran=len(todo) - failed,
                        failed=failed, wall_s=wall_s)
