@@ -6,8 +6,10 @@ from __future__ import annotations
 import json
 import os
 import re
+import signal
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -218,6 +220,29 @@ def test_the_dataset_command_runs_real_cuts_and_resumes(tmp_path, cc_cut):
     # Every run's count and wall time is in the header: the throughput report reads them.
     runs = json.loads((out / HEADER_FILE).read_text())["runs"]
     assert [r["ran"] for r in runs] == [2, 0, 2, 1] and all(r["wall_s"] >= 0 and r["workers"] == 2 for r in runs)
+
+
+def test_a_sweep_killed_mid_run_resumes_without_losing_or_repeating_rows(tmp_path, cc_cut):
+    out = tmp_path / "data"
+    args = [sys.executable, "-m", "culinarycut", "safety", "dataset", "--out", str(out), "--cc-cut", cc_cut,
+            "--speeds", "0.1,0.2,0.5,1,2,4", *TINY[2:], "--workers", "1"]
+    # TMPDIR: the killed run's scratch folder (its cc-cut copy) stays under tmp_path.
+    proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True,
+                            env={**os.environ, "TMPDIR": str(tmp_path)})
+    try:
+        deadline = time.monotonic() + 120
+        while not read_rows(out) and proc.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.05)
+    finally:
+        os.killpg(proc.pid, signal.SIGKILL)  # the CLI and its cc-cut, mid-run
+        proc.wait()
+    kept = read_rows(out)
+    assert 1 <= len(kept) < 6, "the kill should land between the first and the last cut"
+    done = cli("dataset", "--out", str(out), "--cc-cut", cc_cut, "--speeds", "0.1,0.2,0.5,1,2,4", *TINY[2:])
+    assert done.returncode == 0 and f"this run: {6 - len(kept)} in" in done.stdout
+    rows = read_rows(out)
+    assert len(rows) == 6 and len({r["key"] for r in rows}) == 6
+    assert rows[: len(kept)] == kept  # what was recorded before the kill is kept as it was
 
 
 @pytest.mark.parametrize("args, named", [
