@@ -65,7 +65,7 @@ def main() -> int:
         "",
         "Physics runs at 500 Hz; a Step at 20 Hz control therefore runs 25 Bullet substeps, at 500 Hz one.",
         "*Engine* is `Step()` called in-process (no networking). *Observe* is a round trip that does no physics:",
-        "the transport's share. The target (issue #2) is a p50 round trip of at most "
+        "the transport's share. The target is a p50 round trip of at most "
         f"{TARGET_P50_MS} ms.",
         "",
         "| control | substeps | engine steps/s | engine ms/step | C++ Observe p50 ms | C++ Step p50 / p90 / p99 ms | "

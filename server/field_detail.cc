@@ -12,8 +12,12 @@ class FieldDetailInterceptor : public grpc::experimental::Interceptor {
     if (methods->QueryInterceptionHookPoint(InterceptionHookPoints::PRE_SEND_STATUS)) {
       const grpc::Status status = methods->GetSendStatus();
       if (status.error_code() == grpc::StatusCode::INVALID_ARGUMENT) {
-        const std::string field = LeadingFieldPath(status.error_message());
+        // An explicit field (InvalidField) rides in the details; otherwise the message's leading path.
+        const bool explicit_field = !status.error_details().empty();
+        const std::string field = explicit_field ? status.error_details() : LeadingFieldPath(status.error_message());
         if (!field.empty()) methods->GetSendTrailingMetadata()->emplace(kFieldMetadataKey, field);
+        // The details were ours, not a serialised google.rpc.Status: never send them on the wire.
+        if (explicit_field) methods->ModifySendStatus(grpc::Status(status.error_code(), status.error_message()));
       }
     }
     methods->Proceed();

@@ -1,6 +1,7 @@
-// Every INVALID_ARGUMENT names the field at fault at the start of its message; this interceptor
-// also sends that path as trailing metadata "culinarycut-field", a structured detail clients expose
-// (Python: CulinaryCutError.field; C++: RpcError::field()) without parsing messages.
+// Every INVALID_ARGUMENT names the field at fault: explicitly (InvalidField in status.h, e.g. every
+// wire FieldError) or at the start of its message. This interceptor sends that path as trailing
+// metadata "culinarycut-field", a structured detail clients expose (Python: CulinaryCutError.field;
+// C++: RpcError::field()) without parsing messages.
 #pragma once
 
 #include <string>

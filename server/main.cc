@@ -1,4 +1,6 @@
 // culinarycut-server: a long-running simulation server. Start it once; clients connect over gRPC.
+#include <pthread.h>
+
 #include <chrono>
 #include <csignal>
 #include <cstdlib>
@@ -12,6 +14,15 @@
 
 #include "server/simulation_server.h"
 #include "server/version.h"
+
+namespace {
+
+pthread_t main_thread;
+
+// Async-signal-safe: pthread_kill only queues the signal for main, which has it blocked until it waits.
+extern "C" void ForwardStopSignalToMain(int signal) { pthread_kill(main_thread, signal); }
+
+}  // namespace
 
 int main(int argc, char** argv) {
   // Many sessions run MPM on gRPC's threads at once: OpenMP threads that spin while waiting would
@@ -50,6 +61,9 @@ int main(int argc, char** argv) {
                "allow a non-loopback --listen without TLS and authentication (anyone who reaches it controls every "
                "session)");
   app.add_option("--robot-urdf", options.robot_urdf_path, "robot description (default: the shipped Panda with knife)");
+  app.add_option("--safety-model", options.safety_model_path,
+                 "the safety limiter's fitted force model (default: assets/safety/force_model.json); when missing or "
+                 "invalid the server starts without the limiter and says why");
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")
       ->capture_default_str()
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
@@ -63,6 +77,14 @@ int main(int argc, char** argv) {
   sigemptyset(&stop_signals);
   sigaddset(&stop_signals, SIGINT);
   sigaddset(&stop_signals, SIGTERM);
+  // A thread a library started before main (its mask not ours) would take a signal with the default
+  // action, killing the process mid-shutdown: there the handler hands the signal on to main.
+  main_thread = pthread_self();
+  struct sigaction forward {};
+  forward.sa_handler = ForwardStopSignalToMain;
+  sigemptyset(&forward.sa_mask);
+  sigaction(SIGINT, &forward, nullptr);
+  sigaction(SIGTERM, &forward, nullptr);
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
 
   std::unique_ptr<culinarycut::server::SimulationServer> server;

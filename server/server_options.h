@@ -14,6 +14,7 @@ struct ServerOptions {
   std::uint32_t max_sessions = 16;
   double idle_timeout_s = 300.0;                     // sessions untouched this long are closed
   std::string robot_urdf_path;                       // empty: the shipped Panda with knife
+  std::string safety_model_path;                     // empty: the installed force model (assets/safety/)
   std::string snapshot_key_file;                     // empty: a random key, snapshots stay with this process
   std::uint64_t memory_budget_mb = 0;                // all sessions together; 0: 3/4 of the machine's memory
   std::uint32_t max_handler_threads = 64;            // gRPC threads serving calls at once

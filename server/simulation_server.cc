@@ -1,5 +1,6 @@
 #include "server/simulation_server.h"
 
+#include <arpa/inet.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -32,8 +33,12 @@ void CheckListenAddress(const std::string& address) {
 // Loopback hosts (127.0.0.0/8, localhost, [::1]) and unix sockets: reachable only from this machine.
 bool IsLoopbackOrUnix(const std::string& address) {
   if (address.rfind("unix:", 0) == 0) return true;
-  const std::string host = address.substr(0, address.rfind(':'));
-  return host.rfind("127.", 0) == 0 || host == "localhost" || host == "[::1]" || host == "ipv4:127.0.0.1";
+  std::string host = address.substr(0, address.rfind(':'));
+  if (host.rfind("ipv4:", 0) == 0) host = host.substr(5);
+  if (host == "localhost" || host == "[::1]") return true;
+  // 127.0.0.0/8 as a dotted quad only: a host name such as 127.example.com is not loopback.
+  in_addr parsed{};
+  return inet_pton(AF_INET, host.c_str(), &parsed) == 1 && (ntohl(parsed.s_addr) >> 24) == 127;
 }
 
 // The sessions' memory budget: the flag, or three quarters of the machine's memory.
@@ -71,6 +76,10 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
     spdlog::warn("--insecure: listening on {} without TLS and authentication; anyone who reaches it controls every "
                  "session", options.listen_address);
   }
+  if (options.insecure && !options.telemetry_endpoint.empty() && !IsLoopbackOrUnix(telemetry_host)) {
+    spdlog::warn("--insecure: telemetry on {} off loopback, unencrypted; anyone who reaches it sees every session",
+                 options.telemetry_endpoint);
+  }
   const std::string urdf = options.robot_urdf_path.empty() ? DefaultRobotUrdfPath() : options.robot_urdf_path;
   RobotDescription robot = LoadRobotDescription(urdf, kTcpFrame);
   // Fail at start, not on the first CreateSession, if the robot cannot make a default scene.
@@ -93,8 +102,11 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   render::RendererOptions render_options;
   render_options.robot = robot.visuals;  // the URDF parsed once, by the robot description
   renderer_ = std::make_unique<SharedRenderer>(render_options);
+  SafetyModelSource safety_model = LoadSafetyModel(
+      options.safety_model_path.empty() ? safety::DefaultForceModelPath() : options.safety_model_path);
   service_ = std::make_unique<SimulatorService>(std::move(robot), sessions_.get(), telemetry_.get(), renderer_.get(),
-                                                SnapshotSeal(options.snapshot_key_file), options.max_handler_threads);
+                                                SnapshotSeal(options.snapshot_key_file), options.max_handler_threads,
+                                                std::move(safety_model));
   task_service_ = std::make_unique<TaskService>(sessions_.get());
 
   grpc::EnableDefaultHealthCheckService(true);

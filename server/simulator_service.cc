@@ -9,6 +9,7 @@
 #include "server/version.h"
 #include "server/wire/action.h"
 #include "server/wire/observation.h"
+#include "server/wire/safety.h"
 #include "server/wire/scene.h"
 #include "sim/world/controller.h"
 #include "sim/world/scene_budget.h"
@@ -17,13 +18,15 @@
 
 namespace culinarycut::server {
 SimulatorService::SimulatorService(RobotDescription robot, SessionManager* sessions, TelemetryPublisher* telemetry,
-                                   SharedRenderer* renderer, SnapshotSeal seal, std::uint32_t max_handler_threads)
+                                   SharedRenderer* renderer, SnapshotSeal seal, std::uint32_t max_handler_threads,
+                                   SafetyModelSource safety_model)
     : robot_(std::move(robot)),
       sessions_(sessions),
       telemetry_(telemetry),
       renderer_(renderer),
       seal_(std::move(seal)),
-      max_handler_threads_(max_handler_threads) {}
+      max_handler_threads_(max_handler_threads),
+      safety_model_(std::move(safety_model)) {}
 
 double SimulatorService::ObserveToWire(Session& session, v1::FrameStamp* stamp, v1::Observation* wire) {
   render::CameraRenderer* renderer = session.model->cameras.empty() ? nullptr : &renderer_->Get();
@@ -44,6 +47,8 @@ grpc::Status SimulatorService::GetServerInfo(grpc::ServerContext* context, const
   for (const char* capability : {"robot", "snapshot", "health", "reflection", "tasks", "oracle", "mpm", "cameras"}) {
     info->add_capabilities(capability);
   }
+  if (safety_model_.model) info->add_capabilities("safety_limiter");
+  ForceModelToWire(safety_model_.path, safety_model_.model.get(), safety_model_.error, info->mutable_safety_model());
   if (telemetry_) {
     info->add_capabilities("telemetry");
     info->set_telemetry_endpoint(telemetry_->endpoint());
@@ -65,7 +70,13 @@ grpc::Status SimulatorService::GetServerInfo(grpc::ServerContext* context, const
 grpc::Status SimulatorService::CreateSession(grpc::ServerContext* context, const v1::CreateSessionRequest* request,
                                              v1::CreateSessionResponse* response) {
   return Guarded([&] {
-    const std::shared_ptr<const Model> model = CompileModel(SceneFromWire(request->scene()), robot_);
+    const SceneConfig config = SceneFromWire(request->scene());
+    if (config.effects.safety_limiter && !safety_model_.model) {
+      return MakeStatus(grpc::StatusCode::FAILED_PRECONDITION,
+                        "scene.effects.safety_limiter needs the safety force model, which this server could not load: " +
+                            safety_model_.error + " (start it with --safety-model PATH, or turn the limiter off)");
+    }
+    const std::shared_ptr<const Model> model = CompileModel(config, robot_, safety_model_.model);
     if (!model->cameras.empty()) {
       try {
         renderer_->Get();

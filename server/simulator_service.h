@@ -6,6 +6,7 @@
 #include <string>
 
 #include "culinarycut/v1/simulator.grpc.pb.h"
+#include "server/safety_model.h"
 #include "server/session_manager.h"
 #include "server/shared_renderer.h"
 #include "server/snapshot_seal.h"
@@ -16,9 +17,11 @@ namespace culinarycut::server {
 
 class SimulatorService final : public v1::Simulator::Service {
  public:
-  // `telemetry` may be null (telemetry off); `renderer` starts only when a scene declares cameras.
+  // `telemetry` may be null (telemetry off); `renderer` starts only when a scene declares cameras;
+  // `safety_model` without a model refuses scenes with the safety limiter (FAILED_PRECONDITION).
   SimulatorService(RobotDescription robot, SessionManager* sessions, TelemetryPublisher* telemetry,
-                   SharedRenderer* renderer, SnapshotSeal seal, std::uint32_t max_handler_threads);
+                   SharedRenderer* renderer, SnapshotSeal seal, std::uint32_t max_handler_threads,
+                   SafetyModelSource safety_model);
 
   grpc::Status GetServerInfo(grpc::ServerContext*, const v1::GetServerInfoRequest*, v1::ServerInfo*) override;
   grpc::Status CreateSession(grpc::ServerContext*, const v1::CreateSessionRequest*, v1::CreateSessionResponse*) override;
@@ -42,6 +45,7 @@ class SimulatorService final : public v1::Simulator::Service {
   SharedRenderer* renderer_;
   const SnapshotSeal seal_;
   const std::uint32_t max_handler_threads_;  // published in GetServerInfo
+  const SafetyModelSource safety_model_;
 };
 
 }  // namespace culinarycut::server

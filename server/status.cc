@@ -59,7 +59,7 @@ grpc::Status NotApplied(const grpc::ServerContext& context) {
 
 grpc::Status FindSession(SessionManager* sessions, const grpc::ServerContext& context, const std::string& session_id,
                          std::shared_ptr<Session>* session) {
-  if (session_id.empty()) return InvalidArgument("session_id is empty; pass the id CreateSession returned");
+  if (session_id.empty()) return InvalidField("session_id", "session_id is empty; pass the id CreateSession returned");
   *session = sessions->Find(session_id);
   if (*session && (*session)->owner != CallerPrincipal(context)) session->reset();
   if (!*session) {
@@ -74,13 +74,13 @@ grpc::Status StatusFromCurrentException() {
   try {
     throw;
   } catch (const FieldError& error) {
-    return InvalidArgument(error.what());
+    return InvalidField(error.field(), error.what());
   } catch (const UnimplementedField& error) {
     return MakeStatus(grpc::StatusCode::UNIMPLEMENTED, error.what());
   } catch (const SceneError& error) {
     return InvalidArgument(error.what());
   } catch (const SnapshotError& error) {
-    return InvalidArgument(std::string("snapshot: ") + error.what());
+    return InvalidField("snapshot", std::string("snapshot: ") + error.what());
   } catch (const task::TaskError& error) {
     return InvalidArgument(error.what());
   } catch (const render::RenderError& error) {

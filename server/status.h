@@ -26,6 +26,13 @@ inline grpc::Status InvalidArgument(const std::string& message) {
   return MakeStatus(grpc::StatusCode::INVALID_ARGUMENT, message);
 }
 
+// INVALID_ARGUMENT naming its field explicitly: the path rides in the status's details to the field
+// interceptor (field_detail.h), which sends it as trailing metadata and clears the details, so even a
+// one-word field ("snapshot", "split") reaches the client without parsing the message.
+inline grpc::Status InvalidField(const std::string& field, const std::string& message) {
+  return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, SafeMessage(message), SafeMessage(field));
+}
+
 // FAILED_PRECONDITION for a call that needs an episode on a session never reset.
 grpc::Status NotReset(const Session& session);
 

@@ -46,18 +46,26 @@ double SampleRateFromWire(double rate_hz, double default_hz) {
   return rate_hz;
 }
 
+// The parser's errors name the request's instruction field.
+task::CutSpec ParseInstructionField(const std::string& instruction) {
+  task::CutSpec spec;
+  CheckField("instruction", [&] { spec = task::ParseInstruction(instruction); });
+  return spec;
+}
+
 // The spec of a request that carries either an instruction or a spec.
 template <typename Request>
 task::CutSpec SpecFromRequest(const Request& request) {
   switch (request.task_case()) {
     case Request::kInstruction:
-      return task::ParseInstruction(request.instruction());
+      return ParseInstructionField(request.instruction());
     case Request::kSpec:
       return CutSpecFromWire(request.spec(), "spec");
     default:
-      throw task::TaskError(std::is_same_v<Request, v1::StartOracleRequest>
-                                ? "give instruction (text) or spec (a CutSpec), or declare scene.task in the session's scene"
-                                : "give either instruction (text) or spec (a CutSpec)");
+      throw FieldError::WithMessage(
+          "instruction", std::is_same_v<Request, v1::StartOracleRequest>
+                             ? "give instruction (text) or spec (a CutSpec), or declare scene.task in the session's scene"
+                             : "give either instruction (text) or spec (a CutSpec)");
   }
 }
 
@@ -69,7 +77,7 @@ grpc::Status TaskService::ParseInstruction(grpc::ServerContext* context,
                                            const v1::ParseInstructionRequest* request,
                                            v1::ParseInstructionResponse* response) {
   return RunTask([&] {
-    const task::CutSpec spec = task::ParseInstruction(request->instruction());
+    const task::CutSpec spec = ParseInstructionField(request->instruction());
     CutSpecToWire(spec, response->mutable_spec());
     response->set_description(task::Describe(spec));
     for (double fraction : task::TargetFractionsFromLeft(spec)) response->add_target_fractions(fraction);

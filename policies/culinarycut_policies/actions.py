@@ -11,23 +11,63 @@ The knife has no gripper (ManiSkill's `panda_stick` modes have no gripper dimens
 from __future__ import annotations
 
 import numpy as np
+from culinarycut.datasets.adapter_layouts import (ACTION_UNITS, DELTA_EE_ACTION, DELTA_EE_PROPRIO, EE_DELTA_UNIT_M,
+                                                  EE_DELTA_UNIT_RAD)
 
 from culinarycut_policies.rotation import matrix_to_quat_wxyz, quat_wxyz_to_axis_angle
+from culinarycut_policies.statistics import DatasetStatistics, StatisticsError, load_statistics, require_layout
 
-# pd_ee_delta_pose: 1 unit = 0.1 m of translation and 0.1 rad of rotation (docs/robot.md).
-EE_DELTA_UNIT_M = 0.1
-EE_DELTA_UNIT_RAD = 0.1
 POSE_DIMS = 6          # x, y, z, roll, pitch, yaw deltas; a 7th (gripper) is dropped
+# What one unit of a delta action is, (m, rad): ours and Bridge/OpenVLA's metres and radians;
+# ManiSkill's pd_ee_delta_pose (docs/robot.md); robosuite's OSC_POSE controller (LIBERO: output_max
+# 0.05 m and 0.5 rad, its input clipped to [-1, 1] first).
+UNIT_SCALES = {"metres_radians": (1.0, 1.0), "maniskill_normalised": (EE_DELTA_UNIT_M, EE_DELTA_UNIT_RAD),
+               "robosuite_osc": (0.05, 0.5)}
+CLIPPED_UNITS = ("robosuite_osc",)
+assert set(UNIT_SCALES) == set(ACTION_UNITS)
 
 
-def delta_to_ee_delta_pose(action: np.ndarray) -> tuple[str, np.ndarray]:
-    """A model's delta end-effector action [dx, dy, dz (m), droll, dpitch, dyaw (rad), gripper...] in the
-    root frame (the Bridge/OpenVLA convention of the statistics' units) as pd_ee_delta_pose values.
-    The server clips each translation to +-0.1 m and the rotation vector to 0.1 rad per step."""
+def resolve_action_units(stats: DatasetStatistics | None, option: str | None, policy: str) -> str:
+    """The units of the model's delta actions: the statistics' `action_units`, or option action_units for
+    a file that does not say (a model trained elsewhere); the two must agree when both are given."""
+    if option is not None and option not in UNIT_SCALES:
+        raise ValueError(f"policy {policy!r}: option action_units={option!r}; choose one of {', '.join(UNIT_SCALES)}")
+    declared = stats.action_units if stats is not None else None
+    if declared is not None and declared not in UNIT_SCALES:
+        raise StatisticsError(f"policy {policy!r}: {stats.where} has action_units {declared!r}, not delta "
+                              f"end-effector units ({', '.join(UNIT_SCALES)})")
+    if declared is not None and option is not None and declared != option:
+        raise StatisticsError(f"policy {policy!r}: option action_units={option!r} contradicts {stats.where}'s "
+                              f"action_units {declared!r}")
+    units = option or declared
+    if units is None:
+        raise StatisticsError(f"policy {policy!r}: " + (f"{stats.where} does not say its action_units; "
+                              if stats is not None else "") + "set option action_units= to one of "
+                              f"{', '.join(UNIT_SCALES)} (what one unit of the model's delta action is)")
+    return units
+
+
+def load_delta_ee_statistics(path: str | None, key: str | None, units_option: str | None, *, policy: str,
+                             proprio: bool) -> tuple[DatasetStatistics, str]:
+    """(statistics, units) for OpenVLA, OpenVLA-OFT and Octo: a key in the delta end-effector layout (the
+    `NAME_delta_ee` key of CulinaryCut's export), its proprio in LIBERO's eef layout when `proprio`."""
+    stats = load_statistics(path, key, policy=policy, action_layout=DELTA_EE_ACTION)
+    require_layout(stats, policy=policy, action_layout=DELTA_EE_ACTION,
+                   proprio_layout=DELTA_EE_PROPRIO if proprio else None,
+                   hint=" (`culinarycut data export` writes it under the key NAME_delta_ee: option unnorm_key)")
+    return stats, resolve_action_units(stats, units_option, policy)
+
+
+def delta_to_ee_delta_pose(action: np.ndarray, units: str) -> tuple[str, np.ndarray]:
+    """A model's delta end-effector action [dx, dy, dz, droll, dpitch, dyaw, gripper...] in the root frame,
+    in `units` (UNIT_SCALES), as pd_ee_delta_pose values (1 = 0.1 m, 0.1 rad). The server clips each
+    translation to +-0.1 m and the rotation vector to 0.1 rad per step."""
     action = np.asarray(action, dtype=np.float64).reshape(-1)
     if action.size < POSE_DIMS:
         raise ValueError(f"a delta end-effector action needs at least {POSE_DIMS} values, got {action.size}")
-    values = np.concatenate([action[:3] / EE_DELTA_UNIT_M, action[3:POSE_DIMS] / EE_DELTA_UNIT_RAD])
+    pose = np.clip(action[:POSE_DIMS], -1.0, 1.0) if units in CLIPPED_UNITS else action[:POSE_DIMS]
+    metres, radians = UNIT_SCALES[units]
+    values = np.concatenate([pose[:3] * (metres / EE_DELTA_UNIT_M), pose[3:] * (radians / EE_DELTA_UNIT_RAD)])
     return "pd_ee_delta_pose", values
 
 

@@ -1,5 +1,6 @@
 """Image preprocessing as each upstream model saw it in training, without TensorFlow: squash resizes with
-an antialiased Lanczos-3 (what tf.image.resize(method="lanczos3", antialias=True) computes), TF's
+an antialiased Lanczos-3 (the filter tf.image.resize(method="lanczos3", antialias=True) uses; PIL's
+rounding differs, so pixels may differ by a level or so: not tested against TF), TF's
 crop_and_resize for the 0.9-area centre crop, the JPEG round trip of OpenVLA's evaluation, openpi's
 resize-with-pad and RDT's pad-to-square.
 Every function takes and returns HxWx3 uint8."""
@@ -27,7 +28,8 @@ def jpeg_roundtrip(image: np.ndarray, quality: int = 95) -> np.ndarray:
 
 
 # OpenVLA (experiments/robot/libero/libero_utils.py, resize_image) and Octo (ResizeImageWrapper):
-# a squash to the model's size, no letterbox. PIL's LANCZOS is antialiased Lanczos-3 like TF's.
+# a squash to the model's size, no letterbox. PIL's LANCZOS is an antialiased Lanczos-3 filter like TF's
+# lanczos3, not bit-exact with it (the tests check the geometry, not TF's output).
 def squash_resize(image: np.ndarray, height: int, width: int) -> np.ndarray:
     image = check_rgb(image, "image")
     if image.shape[:2] == (height, width):

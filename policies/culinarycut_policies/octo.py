@@ -1,7 +1,8 @@
 """Octo through an openpi-protocol server (policies/servers/serve_octo.py): `image_primary` 256 x 256 and
 `image_wrist` 128 x 128 (Lanczos squash, as Octo's ResizeImageWrapper), a history window of 2 with
 `timestep_pad_mask` (octo/utils/gym_wrappers.py HistoryWrapper), batch dimension first. The server
-answers normalised action chunks (1, 4, 7) (sample_actions without statistics); they are un-normalised
+answers normalised action chunks (1, 4, 7) (sample_actions without statistics; a server whose metadata
+says `normalized_actions` false is refused); they are un-normalised
 here with the dataset's mean/std and mask, as sample_actions would, and executed by temporal ensembling
 or receding horizon control."""
 from __future__ import annotations
@@ -10,11 +11,11 @@ from collections import deque
 
 import numpy as np
 
-from culinarycut_policies.actions import delta_to_ee_delta_pose
+from culinarycut_policies.actions import delta_to_ee_delta_pose, load_delta_ee_statistics
 from culinarycut_policies.chunking import OpenLoopChunks, TemporalEnsemble
 from culinarycut_policies.images import camera_rgb, squash_resize
 from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy
-from culinarycut_policies.statistics import load_statistics, unnormalize_normal
+from culinarycut_policies.statistics import unnormalize_normal
 from culinarycut_policies.transports.faults import PolicyServerError
 from culinarycut_policies.transports.openpi_websocket import OpenPIWebsocketClient
 
@@ -62,9 +63,10 @@ class OctoPolicy(RemotePolicy):
                  unnorm_key: str | None = None, camera: str = "front", wrist_camera: str | None = None,
                  camera_size: int = DEFAULT_CAMERA_SIZE, execution: str = "ensemble", exec_horizon: int = 1,
                  exp_weight: float = 0.0, window: int = WINDOW, action_horizon: int = PRED_HORIZON,
-                 api_key: str | None = None, **transport):
+                 action_units: str | None = None, api_key: str | None = None, **transport):
         super().__init__(url=url, **transport)
-        self.stats = load_statistics(statistics, unnorm_key, policy=self.name)
+        self.stats, self.action_units = load_delta_ee_statistics(statistics, unnorm_key, action_units,
+                                                                 policy=self.name, proprio=False)
         self.window, self.action_horizon = int(window), int(action_horizon)
         if execution not in EXECUTIONS:
             raise ValueError(f"policy octo: option execution must be one of {EXECUTIONS}, got {execution!r}")
@@ -84,6 +86,11 @@ class OctoPolicy(RemotePolicy):
 
     def check_metadata(self, metadata: dict) -> None:
         """The server's metadata must agree with the options (serve_octo.py reads them from the model)."""
+        if "normalized_actions" in metadata and not metadata["normalized_actions"]:
+            raise PolicyServerError(f"policy octo: the model at {self.url} answers un-normalised actions "
+                                    "(normalized_actions false: it was given statistics); this adapter un-normalises "
+                                    "with option statistics, so they would be un-normalised twice: serve the model "
+                                    "without statistics")
         for option in ("window", "action_horizon"):
             if option in metadata and int(metadata[option]) != getattr(self, option):
                 raise PolicyServerError(f"policy octo: the model at {self.url} has {option} {metadata[option]}; "
@@ -109,4 +116,4 @@ class OctoPolicy(RemotePolicy):
                 raise PolicyServerError(f"policy octo: expected actions (1, >={self.action_horizon}, D) from "
                                         f"{self.url}, got {actions.shape}")
             self.executor.add(unnormalize_normal(actions[0], self.stats.action))
-        return delta_to_ee_delta_pose(self.executor.next())
+        return delta_to_ee_delta_pose(self.executor.next(), self.action_units)

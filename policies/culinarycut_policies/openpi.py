@@ -2,12 +2,15 @@
 LIBERO example (examples/libero/main.py): `observation/image` and `observation/wrist_image` resized with
 pad to 224, `observation/state`, `prompt`; the answer's `actions` (H, D) is executed `replan_steps` at a
 time (5 in the example). openpi servers normalise and un-normalise with the statistics stored in their
-own checkpoint, so this adapter takes none; the actions are read as delta end-effector actions in metres
-and radians (gripper: see actions.py)."""
+own checkpoint, so this adapter takes none; the actions are delta end-effector actions in option
+`action_units`: by default robosuite's OSC units (1 = 0.05 m / 0.5 rad), what LIBERO-trained checkpoints
+(pi0_libero, pi05_libero) answer; `metres_radians` for a model trained on CulinaryCut's delta layout
+(gripper: see actions.py)."""
 from __future__ import annotations
 
 import numpy as np
 
+from culinarycut_policies.actions import resolve_action_units
 from culinarycut_policies.actions import delta_to_ee_delta_pose, pad_state, tcp_position_axis_angle
 from culinarycut_policies.chunking import OpenLoopChunks
 from culinarycut_policies.images import camera_rgb, resize_with_pad
@@ -18,6 +21,7 @@ from culinarycut_policies.transports.openpi_websocket import OpenPIWebsocketClie
 IMAGE_SIZE = 224
 REPLAN_STEPS = 5
 STATE_DIM = 8  # LIBERO: eef position, rotation vector, two gripper joints
+LIBERO_UNITS = "robosuite_osc"
 
 
 class OpenPIPolicy(RemotePolicy):
@@ -27,8 +31,10 @@ class OpenPIPolicy(RemotePolicy):
 
     def __init__(self, url: str = "ws://127.0.0.1:8000", camera: str = "front", wrist_camera: str | None = "wrist",
                  camera_size: int = DEFAULT_CAMERA_SIZE, replan_steps: int = REPLAN_STEPS,
-                 state_dim: int = STATE_DIM, api_key: str | None = None, **transport):
+                 state_dim: int = STATE_DIM, action_units: str = LIBERO_UNITS, api_key: str | None = None,
+                 **transport):
         super().__init__(url=url, **transport)
+        self.action_units = resolve_action_units(None, action_units, self.name)
         self.use_cameras(camera, wrist_camera, camera_size)
         self.chunks = OpenLoopChunks(int(replan_steps))
         self.state_dim = int(state_dim)
@@ -54,4 +60,4 @@ class OpenPIPolicy(RemotePolicy):
             if actions.ndim != 2:
                 raise PolicyServerError(f"policy openpi: expected `actions` (H, D) from {self.url}, got {actions.shape}")
             self.chunks.add(actions)
-        return delta_to_ee_delta_pose(self.chunks.next())
+        return delta_to_ee_delta_pose(self.chunks.next(), self.action_units)

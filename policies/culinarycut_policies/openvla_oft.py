@@ -8,12 +8,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from culinarycut_policies.actions import delta_to_ee_delta_pose, pad_state, tcp_position_axis_angle
+from culinarycut_policies.actions import (delta_to_ee_delta_pose, load_delta_ee_statistics, pad_state,
+                                          tcp_position_axis_angle)
 from culinarycut_policies.chunking import OpenLoopChunks
 from culinarycut_policies.images import camera_rgb
 from culinarycut_policies.openvla import openvla_image
 from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy
-from culinarycut_policies.statistics import StatisticsError, load_statistics
+from culinarycut_policies.statistics import StatisticsError
 from culinarycut_policies.transports.faults import PolicyServerError
 from culinarycut_policies.transports.json_numpy_rest import JsonNumpyRestClient
 
@@ -27,9 +28,11 @@ class OpenVLAOFTPolicy(RemotePolicy):
 
     def __init__(self, url: str = "http://127.0.0.1:8777", statistics: str | None = None,
                  unnorm_key: str | None = None, camera: str = "front", wrist_camera: str | None = "wrist",
-                 camera_size: int = DEFAULT_CAMERA_SIZE, execute_steps: int = CHUNK_STEPS, **transport):
+                 camera_size: int = DEFAULT_CAMERA_SIZE, execute_steps: int = CHUNK_STEPS,
+                 action_units: str | None = None, **transport):
         super().__init__(url=url, **transport)
-        self.stats = load_statistics(statistics, unnorm_key, policy=self.name)
+        self.stats, self.action_units = load_delta_ee_statistics(statistics, unnorm_key, action_units,
+                                                                 policy=self.name, proprio=True)
         if self.stats.proprio is None:
             raise StatisticsError(f"policy {self.name!r}: the statistics of {self.stats.key!r} have no 'proprio'; "
                                   "OpenVLA-OFT normalises its `state` with them")
@@ -58,4 +61,4 @@ class OpenVLAOFTPolicy(RemotePolicy):
                 raise PolicyServerError(f"OpenVLA-OFT server answered shape {chunk.shape}; expected a list of "
                                         f"{self.stats.action.dim}-D actions (the statistics of {self.stats.key!r})")
             self.chunks.add(chunk)
-        return delta_to_ee_delta_pose(self.chunks.next())
+        return delta_to_ee_delta_pose(self.chunks.next(), self.action_units)

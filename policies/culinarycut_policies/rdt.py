@@ -2,26 +2,30 @@
 
 Sent per query: six images in RDT's order [ext_{t-1}, right_wrist_{t-1}, left_wrist_{t-1}, ext_t,
 right_wrist_t, left_wrist_t] (None where a camera is missing, and for t-1 at the first step, as
-scripts/agilex_inference.py starts its window), each padded square and resized to 384; the state in
+scripts/agilex_inference.py starts its window), each JPEG round-tripped as that script's jpeg_mapping
+does, then padded square and resized to 384 (the raw frames are kept between queries and processed
+only when a query is made); the state in
 the 128-D unified vector (configs/state_vec.py; the single arm in the right-arm slots) with its mask,
 normalised with the statistics' proprio min/max as scripts/maniskill_model.py does; the control
-frequency; the language as precomputed T5-XXL embeddings (1, L, 4096), or the instruction text when no
-embeddings file is given (the server must then encode it). The answer is (1, 64, 128): 64 future absolute
+frequency; the language as precomputed T5-XXL embeddings (1, L, 4096) (rdt_language.py reads
+scripts/encode_lang.py's .pt files), or the instruction text when no embeddings are given (the server
+must then encode it). The answer is (1, 64, 128): 64 future absolute
 states, un-normalised with the action min/max; their end-effector pose is executed as pd_ee_pose_quat,
 open loop, before the next query.
 """
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
+from culinarycut.datasets.adapter_layouts import RDT_STATE
 
 from culinarycut_policies.actions import pose_to_ee_pose_quat, tcp_pose
 from culinarycut_policies.chunking import OpenLoopChunks
-from culinarycut_policies.images import camera_rgb, pad_square_resize
+from culinarycut_policies.images import camera_rgb, jpeg_roundtrip, pad_square_resize
+from culinarycut_policies.rdt_language import load_embeddings
 from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy
 from culinarycut_policies.rotation import matrix_to_ortho6d, ortho6d_to_matrix, quat_wxyz_to_matrix
-from culinarycut_policies.statistics import StatisticsError, load_statistics, normalize_bounds, unnormalize_bounds
+from culinarycut_policies.statistics import (StatisticsError, load_statistics, normalize_bounds, require_layout,
+                                             unnormalize_bounds)
 from culinarycut_policies.transports.faults import PolicyServerError
 from culinarycut_policies.transports.openpi_websocket import OpenPIWebsocketClient
 
@@ -54,15 +58,10 @@ def to_unified(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return state, mask
 
 
-def load_embeddings(path: str | None) -> dict[str, np.ndarray]:
-    """instruction -> (L, 4096) float from an .npz (scripts/encode_lang.py's output, one array per text)."""
-    if not path:
-        return {}
-    try:
-        with np.load(Path(path), allow_pickle=False) as archive:
-            return {key: archive[key] for key in archive.files}
-    except (OSError, ValueError) as err:
-        raise ValueError(f"policy rdt: option language_embeddings={path}: {err}") from None
+def rdt_image(rgb: np.ndarray | None) -> np.ndarray | None:
+    """One camera frame as RDT saw it: agilex_inference.py's jpeg_mapping (its training frames were JPEG),
+    then agilex_model.py's expand2square and SigLIP's resize to 384."""
+    return None if rgb is None else pad_square_resize(jpeg_roundtrip(rgb), IMAGE_SIZE)
 
 
 class RDTPolicy(RemotePolicy):
@@ -77,7 +76,9 @@ class RDTPolicy(RemotePolicy):
                  control_frequency: float | None = None, language_embeddings: str | None = None,
                  api_key: str | None = None, **transport):
         super().__init__(url=url, **transport)
-        self.stats = load_statistics(statistics, unnorm_key, policy=self.name)
+        self.stats = load_statistics(statistics, unnorm_key, policy=self.name, action_layout=RDT_STATE)
+        require_layout(self.stats, policy=self.name, action_layout=RDT_STATE, proprio_layout=RDT_STATE,
+                       hint=" (`culinarycut data export` writes it under the key NAME_rdt: option unnorm_key)")
         if self.stats.proprio is None:
             raise StatisticsError(f"policy rdt: the statistics of {self.stats.key!r} have no 'proprio'")
         for what, entry in (("proprio", self.stats.proprio), ("action", self.stats.action)):
@@ -89,26 +90,36 @@ class RDTPolicy(RemotePolicy):
         self.fixed_frequency = None if control_frequency is None else float(control_frequency)
         self.control_frequency = self.fixed_frequency or CONTROL_FREQUENCY_HZ
         self.embeddings = load_embeddings(language_embeddings)
-        self.previous_images: list = [None, None, None]
+        self.previous_frames: list = [None, None, None]  # raw RGB of t-1, processed only when a query is made
         self.transport = OpenPIWebsocketClient(self.url, self.timeouts, api_key=api_key)
 
     def reset(self, instruction, info):
         if self.embeddings and instruction not in self.embeddings:
             raise KeyError(f"policy rdt: no language embedding for {instruction!r} in option language_embeddings "
-                           f"({len(self.embeddings)} instructions); encode it with scripts/encode_lang.py")
+                           f"({len(self.embeddings)} instructions); encode it with RDT's scripts/encode_lang.py")
         self.chunks.reset()
-        self.previous_images = [None, None, None]
+        self.previous_frames = [None, None, None]
         if self.fixed_frequency is None and info.get("control_frequency_hz"):
             self.control_frequency = float(info["control_frequency_hz"])
         super().reset(instruction, info)
 
+    def check_metadata(self, metadata: dict) -> None:
+        """The server's chunk must hold the steps executed from it (serve_rdt.py: action_chunk_size)."""
+        horizon = metadata.get("action_horizon")
+        if horizon is not None and self.chunks.execute_steps > int(horizon):
+            raise PolicyServerError(f"policy rdt: option execute_steps={self.chunks.execute_steps} exceeds the "
+                                    f"action_horizon {horizon} of the model at {self.url}; set execute_steps<={horizon}")
+
+    def frames(self, observation: dict) -> list:
+        """This step's raw frames [ext, right wrist, left wrist (a single arm has none)]."""
+        return [camera_rgb(observation, self.camera),
+                camera_rgb(observation, self.wrist_camera) if self.wrist_camera else None, None]
+
     def images(self, observation: dict) -> list:
-        current = [pad_square_resize(camera_rgb(observation, self.camera), IMAGE_SIZE),
-                   pad_square_resize(camera_rgb(observation, self.wrist_camera), IMAGE_SIZE)
-                   if self.wrist_camera else None,
-                   None]  # left wrist: a single arm has none
-        six = self.previous_images + current
-        self.previous_images = current
+        """The six processed images of a query; this step's frames become the next query's t-1."""
+        current = self.frames(observation)
+        six = [rdt_image(frame) for frame in self.previous_frames + current]
+        self.previous_frames = current
         return six
 
     def request(self, observation: dict) -> dict:
@@ -130,7 +141,7 @@ class RDTPolicy(RemotePolicy):
                                         f"got {actions.shape}")
             self.chunks.add(unnormalize_bounds(actions[0][:, STATE_SLOTS], self.stats.action))
         else:
-            self.images(observation)  # keeps the t-1 images current while the chunk runs
+            self.previous_frames = self.frames(observation)  # the t-1 frames of the next query
         target = self.chunks.next()
         position = target[len(JOINT_SLOTS):len(JOINT_SLOTS) + 3]
         rotation = ortho6d_to_matrix(target[len(JOINT_SLOTS) + 3:])

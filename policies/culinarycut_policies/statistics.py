@@ -3,7 +3,9 @@ upstream models map between normalised and dataset units.
 
 Layout: {key: {"action": {"mean", "std", "min", "max", "q01", "q99", "mask"}, "proprio": {...},
 "num_transitions", "num_trajectories"}}; `mask` (optional, default all true) marks the dimensions that
-are normalised at all (a gripper usually is not).
+are normalised at all (a gripper usually is not). CulinaryCut's export also writes, per key, what the
+values are (`action_layout`, `proprio_layout`, `action_units`; culinarycut/datasets/statistics.py):
+an adapter refuses a key whose layout is not the one it executes, and reads its units from there.
 """
 from __future__ import annotations
 
@@ -61,11 +63,17 @@ class DatasetStatistics:
     proprio: Statistics | None
     num_transitions: int
     num_trajectories: int
+    where: str = ""                     # "PATH[key]", for messages
+    action_layout: str | None = None    # None: a file that does not say (upstream's own statistics)
+    proprio_layout: str | None = None
+    action_units: str | None = None
 
 
-def load_statistics(path: str | Path | None, key: str | None, *, policy: str) -> DatasetStatistics:
+def load_statistics(path: str | Path | None, key: str | None, *, policy: str,
+                    action_layout: str | None = None) -> DatasetStatistics:
     """The statistics of `key` in the file at `path`. Without a path the adapter cannot un-normalise, so it
-    refuses; without a key the file must hold exactly one (as OpenVLA's `_check_unnorm_key` requires)."""
+    refuses; without a key the file must hold exactly one (as OpenVLA's `_check_unnorm_key` requires), or
+    exactly one whose `action_layout` is the adapter's."""
     if not path:
         raise StatisticsError(f"policy {policy!r} needs option statistics=PATH: the dataset_statistics.json of the "
                               "data the model was trained on (an adapter never guesses its action units)")
@@ -78,6 +86,9 @@ def load_statistics(path: str | Path | None, key: str | None, *, policy: str) ->
         raise StatisticsError(f"policy {policy!r}: option statistics={path} is not JSON: {err}") from None
     if not isinstance(everything, dict) or not everything:
         raise StatisticsError(f"policy {policy!r}: {path} holds no dataset keys")
+    if key is None and action_layout is not None:
+        fitting = [k for k, v in everything.items() if isinstance(v, dict) and v.get("action_layout") == action_layout]
+        key = fitting[0] if len(fitting) == 1 else None
     if key is None:
         if len(everything) != 1:
             raise StatisticsError(f"policy {policy!r}: {path} has {len(everything)} datasets; choose one with "
@@ -92,7 +103,20 @@ def load_statistics(path: str | Path | None, key: str | None, *, policy: str) ->
     proprio = _entry(raw["proprio"], f"{path}[{key!r}].proprio") if "proprio" in raw else None
     return DatasetStatistics(key=key, action=_entry(raw["action"], f"{path}[{key!r}].action"), proprio=proprio,
                              num_transitions=int(raw.get("num_transitions", 0)),
-                             num_trajectories=int(raw.get("num_trajectories", 0)))
+                             num_trajectories=int(raw.get("num_trajectories", 0)), where=f"{path}[{key!r}]",
+                             action_layout=raw.get("action_layout"), proprio_layout=raw.get("proprio_layout"),
+                             action_units=raw.get("action_units"))
+
+
+def require_layout(stats: DatasetStatistics, *, policy: str, action_layout: str,
+                   proprio_layout: str | None = None, hint: str = "") -> None:
+    """Refuses statistics that say they are in another layout than the adapter executes (a file that says
+    nothing is taken on the user's word; its units must then come from option action_units)."""
+    for field, declared, expected in (("action_layout", stats.action_layout, action_layout),
+                                      ("proprio_layout", stats.proprio_layout, proprio_layout)):
+        if expected is not None and declared is not None and declared != expected:
+            raise StatisticsError(f"policy {policy!r}: {stats.where} has {field} {declared!r}, but this adapter "
+                                  f"reads {expected!r}{hint}")
 
 
 def _check_dim(values: np.ndarray, stats: Statistics, what: str) -> None:

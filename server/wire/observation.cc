@@ -1,5 +1,7 @@
 #include "server/wire/observation.h"
 
+#include <cmath>
+
 #include "server/wire/camera.h"
 #include "server/wire/task.h"
 #include "server/wire/values.h"
@@ -33,6 +35,24 @@ void FoodObservationToWire(const FoodObservation& food, v1::FoodObservation* wir
     AssignVector(piece.bounds_m.max(), out->mutable_bounds_max());
   }
 }
+
+void SafetyStepToWire(const safety::LimiterReport& report, v1::SafetyStepInfo* wire) {
+  wire->set_acted(report.acted);
+  for (int i = 0; i < safety::kGuardCount; ++i) (*wire->mutable_guard_counts())[safety::kGuardNames[i]] = report.guard_counts[i];
+  wire->set_reason(report.reason);
+  // NaN in the engine means no food was near the edge; the wire says so with `assessed`.
+  wire->set_assessed(std::isfinite(report.v_safe_m_s));
+  if (wire->assessed()) {
+    wire->set_v_safe_m_s(report.v_safe_m_s);
+    wire->set_predicted_force_n(report.predicted_force_n);
+  }
+  wire->set_out_of_range(report.out_of_range);
+  wire->set_commanded_speed_m_s(report.commanded_speed_m_s);
+  wire->set_target_scale(report.target_scale);
+}
+
+// A finite value, or 0 for the engine's NaN ("not assessed").
+double FiniteOrZero(double value) { return std::isfinite(value) ? value : 0.0; }
 
 }  // namespace
 
@@ -77,6 +97,8 @@ void StepResultToWire(const StepResult& result, double render_wall_time_ms, v1::
   info->set_physics_wall_time_ms(result.timings[Stage::kPhysics]);
   info->set_mpm_wall_time_ms(result.timings[Stage::kMpm]);
   info->set_topology_wall_time_ms(result.timings[Stage::kTopology]);
+  info->set_safety_wall_time_ms(result.timings[Stage::kSafety]);
+  if (result.safety) SafetyStepToWire(*result.safety, info->mutable_safety());
   info->set_render_wall_time_ms(render_wall_time_ms);
 }
 
@@ -93,6 +115,14 @@ void SessionStatsToWire(const Model& model, const State& state, const StageTotal
     wire->set_mpm_substeps(state.food->substeps);
     wire->set_has_contact(state.food->first_contact_frame.has_value());
     wire->set_first_contact_frame(state.food->first_contact_frame.value_or(0));
+    v1::SafetyTotals* safety = wire->mutable_safety();
+    safety->set_peak_knife_force_n(state.safety.peak_knife_force_n);
+    safety->set_peak_cutting_speed_m_s(state.safety.peak_cutting_speed_m_s);
+    if (model.limiter) {
+      for (int i = 0; i < safety::kGuardCount; ++i) {
+        (*safety->mutable_interventions())[safety::kGuardNames[i]] = state.safety.interventions[i];
+      }
+    }
   }
   for (int stage = 0; stage < kStageCount; ++stage) {
     (*wire->mutable_stage_wall_time_s())[kStageNames[stage]] = totals.wall_s[stage];
@@ -108,6 +138,10 @@ v1::TelemetryFrame TelemetryToWire(const std::string& session_id, const Observat
   AssignVector(observation.robot.qvel_rad_s, frame.mutable_qvel());
   AssignVector(observation.robot.tcp_pose, frame.mutable_tcp_pose());
   AssignVector(observation.robot.wrist_wrench, frame.mutable_wrist_wrench());
+  if (observation.safety) {
+    frame.set_v_safe_m_s(FiniteOrZero(observation.safety->v_safe_m_s));
+    frame.set_predicted_force_n(FiniteOrZero(observation.safety->predicted_force_n));
+  }
   return frame;
 }
 

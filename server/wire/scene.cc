@@ -49,15 +49,31 @@ TaskConfig TaskFromWire(const v1::TaskSpec& task) {
                     TextFromWire(task.reference(), "scene.task.reference")};
 }
 
+// 0 / unset keeps each default; the engine checks the ranges (ValidateSafetyConfig).
+SafetyConfig SafetyFromWire(const v1::SafetySpec& wire) {
+  SafetyConfig safety;
+  if (wire.max_force_n() != 0) safety.max_force_n = FiniteFromWire(wire.max_force_n(), "scene.safety.max_force_n");
+  if (wire.has_margin()) safety.margin = FiniteFromWire(wire.margin().value(), "scene.safety.margin");
+  if (wire.max_entry_angle_deg() != 0) {
+    safety.max_entry_angle_deg = FiniteFromWire(wire.max_entry_angle_deg(), "scene.safety.max_entry_angle_deg");
+  }
+  for (int i = 0; i < wire.guards_size(); ++i) {
+    safety.guards.push_back(TextFromWire(wire.guards(i), "scene.safety.guards[" + std::to_string(i) + "]"));
+  }
+  return safety;
+}
+
 }  // namespace
 
 SceneConfig SceneFromWire(const v1::SceneSpec& wire) {
   const v1::Effects& effects = wire.effects();
-  if (effects.safety_limiter()) throw UnimplementedField("scene.effects.safety_limiter", "the safety limiter");
-
   SceneConfig config;
-  config.effects = EffectsConfig{effects.mpm(), effects.plasticity(), effects.damage(),
-                                 effects.friction(), effects.topology(), effects.force_sensing()};
+  config.effects = EffectsConfig{effects.mpm(),      effects.plasticity(),    effects.damage(),        effects.friction(),
+                                 effects.topology(), effects.force_sensing(), effects.safety_limiter()};
+  if (wire.has_safety()) {
+    if (!effects.safety_limiter()) throw FieldError("scene.safety", "is set but effects.safety_limiter is off; turn it on or drop scene.safety");
+    config.safety = SafetyFromWire(wire.safety());
+  }
   for (int i = 0; i < wire.objects_size(); ++i) {
     config.foods.push_back(FoodFromWire(wire.objects(i), "scene.objects[" + std::to_string(i) + "]"));
   }
@@ -110,6 +126,14 @@ v1::SceneSpec SceneToWire(const SceneConfig& config) {
   effects->set_friction(config.effects.friction);
   effects->set_topology(config.effects.topology);
   effects->set_force_sensing(config.effects.force_sensing);
+  effects->set_safety_limiter(config.effects.safety_limiter);
+  if (config.effects.safety_limiter) {
+    v1::SafetySpec* safety = wire.mutable_safety();
+    safety->set_max_force_n(config.safety.max_force_n);
+    safety->mutable_margin()->set_value(config.safety.margin);
+    for (const std::string& guard : config.safety.guards) safety->add_guards(guard);
+    safety->set_max_entry_angle_deg(config.safety.max_entry_angle_deg);
+  }
   for (const CameraConfig& camera : config.cameras) CameraToWire(camera, wire.add_cameras());
   if (!config.task.empty()) {
     v1::TaskSpec* task = wire.mutable_task();

@@ -8,8 +8,7 @@
 
 namespace culinarycut::server {
 
-// Throws FieldError naming the field (e.g. "scene.objects[1].scale"), or UnimplementedField for a
-// feature this server does not have yet.
+// Throws FieldError naming the field (e.g. "scene.objects[1].scale", "scene.safety.margin").
 SceneConfig SceneFromWire(const v1::SceneSpec& wire);
 
 // The scene with every default filled in, as the client should record it.

@@ -47,7 +47,7 @@ task::CutSpec CutSpecFromWire(const v1::CutSpec& wire, const std::string& field)
   if (spec.target_object.empty()) {
     throw FieldError(field + ".target_object", "is empty; name the food to cut, e.g. \"cucumber\"");
   }
-  task::ValidateCutSpec(spec);
+  CheckField(field, [&] { task::ValidateCutSpec(spec); });
   return spec;
 }
 
@@ -68,7 +68,7 @@ task::ObjectBox ObjectBoxFromWire(const v1::ObjectBox& wire, const std::string& 
   if (!wire.has_pose()) throw FieldError(field + ".pose", "is missing");
   box.pose = PoseFromWire(wire.pose(), field + ".pose");
   box.extent_m = Vector3FromWire(wire.extent_m(), field + ".extent_m");
-  task::ValidateObjectBox(box);
+  CheckField(field, [&] { task::ValidateObjectBox(box); });
   return box;
 }
 
@@ -95,7 +95,7 @@ task::PlannerOptions PlannerOptionsFromWire(const v1::PlannerOptions& wire, cons
                        &options.saw_amplitude_m);
   SampledRangeFromWire(wire.has_guillotine_start_pitch_rad(), wire.guillotine_start_pitch_rad(),
                        field + ".guillotine_start_pitch_rad", &options.guillotine_start_pitch_rad);
-  task::ValidatePlannerOptions(options);
+  CheckField(field, [&] { task::ValidatePlannerOptions(options); });
   return options;
 }
 
@@ -109,7 +109,7 @@ task::SuccessTolerances TolerancesFromWire(const v1::SuccessTolerances& wire, co
     tolerances.bias_max_rad = FiniteFromWire(wire.bias_rad().max(), field + ".bias_rad.max");
   }
   tolerances.allow_extra_cuts = wire.allow_extra_cuts();
-  task::ValidateTolerances(tolerances);
+  CheckField(field, [&] { task::ValidateTolerances(tolerances); });
   return tolerances;
 }
 

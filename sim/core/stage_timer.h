@@ -9,13 +9,13 @@
 namespace culinarycut {
 
 // Robot control (action -> joint targets), the robot's physics substeps, the food's MPM substeps,
-// piece detection, the task score, camera rendering.
-enum class Stage { kControl = 0, kPhysics, kMpm, kTopology, kTask, kRender, kCount };
+// piece detection, the task score, camera rendering, the safety limiter (only with it on).
+enum class Stage { kControl = 0, kPhysics, kMpm, kTopology, kTask, kRender, kSafety, kCount };
 inline constexpr int kStageCount = static_cast<int>(Stage::kCount);
 
 // The names the wire and the docs use for each Stage, in enum order.
 inline constexpr std::array<const char*, kStageCount> kStageNames = {"control", "physics", "mpm", "topology",
-                                                                    "task", "render"};
+                                                                    "task", "render", "safety"};
 
 // Wall time (ms) of each stage within one call.
 struct StageTimes {

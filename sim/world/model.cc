@@ -20,6 +20,28 @@ void HashBytes(std::uint64_t* hash, const void* data, size_t size) {
   }
 }
 
+// The limiter of a scene: it limits the knife against the food, so it needs food, and the force model.
+safety::LimiterModel CompileLimiter(const SafetyConfig& config, const Model& model,
+                                   std::shared_ptr<const safety::ForceModel> force_model) {
+  if (!model.food) {
+    throw SceneError("scene.effects.safety_limiter needs food (effects.mpm and scene.objects): it limits the knife "
+                     "against the food");
+  }
+  if (!force_model) {
+    throw SceneError("scene.effects.safety_limiter needs the safety force model, and none was loaded");
+  }
+  safety::LimiterModel limiter;
+  limiter.force_model = std::move(force_model);
+  limiter.settings.max_force_n = config.max_force_n;
+  limiter.settings.margin = config.margin;
+  limiter.settings.max_entry_angle_deg = config.max_entry_angle_deg;
+  if (!config.guards.empty()) {
+    limiter.settings.guards = {false, false, false};
+    for (const std::string& name : config.guards) limiter.settings.guards[static_cast<int>(*safety::ParseGuard(name))] = true;
+  }
+  return limiter;
+}
+
 }  // namespace
 
 std::string DefaultRobotUrdfPath() {
@@ -44,7 +66,8 @@ std::optional<std::string> CheckJointPositions(const RobotDescription& robot, co
   return std::nullopt;
 }
 
-std::shared_ptr<const Model> CompileModel(const SceneConfig& config, const RobotDescription& robot) {
+std::shared_ptr<const Model> CompileModel(const SceneConfig& config, const RobotDescription& robot,
+                                          std::shared_ptr<const safety::ForceModel> force_model) {
   if (const auto error = ValidateSceneConfig(config)) throw SceneError(*error);
   auto model = std::make_shared<Model>();
   model->config = config;
@@ -122,6 +145,13 @@ std::shared_ptr<const Model> CompileModel(const SceneConfig& config, const Robot
       resolved.split_pieces = spec.state == task::CutState::kSplit ? spec.split_pieces : 0;
       resolved.target_object = spec.target_object;
       resolved.reference = task::Name(spec.reference);
+    }
+  }
+  if (config.effects.safety_limiter) model->limiter = CompileLimiter(config.safety, *model, std::move(force_model));
+  if (model->limiter) {  // echo the guards that run
+    model->config.safety.guards.clear();
+    for (int i = 0; i < safety::kGuardCount; ++i) {
+      if (model->limiter->settings.guards[i]) model->config.safety.guards.push_back(safety::kGuardNames[i]);
     }
   }
   std::uint64_t hash = 1469598103934665603ULL;

@@ -14,6 +14,7 @@
 
 #include "sim/render/camera.h"
 #include "sim/robot/robot_description.h"
+#include "sim/safety/limiter.h"
 #include "sim/world/food_model.h"
 #include "sim/world/scene_config.h"
 #include "sim/core/scene_layout.h"
@@ -45,12 +46,15 @@ struct Model {
   std::optional<FoodModel> food;        // only when the scene declares MPM food
   std::vector<render::CameraSpec> cameras;  // config.cameras resolved, in the same order; empty: no rendering
   std::optional<TaskModel> task;        // only when the scene declares a task (needs food with topology)
+  std::optional<safety::LimiterModel> limiter;  // only with effects.safety_limiter (needs food)
   std::uint64_t fingerprint = 0;        // changes whenever anything that shapes a State changes
   std::size_t estimated_memory_bytes = 0;  // what a session of this model will hold (scene_budget.h)
 };
 
-// Compiles a config against a loaded robot. Throws SceneError with an actionable message.
-std::shared_ptr<const Model> CompileModel(const SceneConfig& config, const RobotDescription& robot);
+// Compiles a config against a loaded robot. Throws SceneError with an actionable message. A scene
+// with effects.safety_limiter needs `force_model` (the fitted force regression, see sim/safety).
+std::shared_ptr<const Model> CompileModel(const SceneConfig& config, const RobotDescription& robot,
+                                          std::shared_ptr<const safety::ForceModel> force_model = nullptr);
 
 // An error naming `field` when q has the wrong size, a non-finite value or leaves the joint limits.
 std::optional<std::string> CheckJointPositions(const RobotDescription& robot, const std::vector<double>& q_rad,

@@ -31,6 +31,7 @@ Observation Observe(const Model& model, const State& state, render::CameraRender
   observation.frame_id = state.frame_id;
   observation.sim_time_s = state.sim_time_s;
   observation.robot = ObserveRobot(model, state);
+  if (model.limiter) observation.safety = state.safety;
   if (state.food) {
     observation.food = FoodObservation{state.food->contact_last_step, state.food->substeps_last_step > 0,
                                        state.food->pieces};

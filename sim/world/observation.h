@@ -45,6 +45,7 @@ struct Observation {
   std::optional<FoodObservation> food;        // only when the scene has food
   std::string instruction;                    // the scene task's; empty without a task
   std::optional<task::TaskScore> task_score;  // only when the scene declares a task
+  std::optional<safety::EpisodeSafety> safety;  // only with effects.safety_limiter
   render::RenderResult images;                // the scene's cameras, when a renderer was given
   double render_wall_time_ms = 0.0;           // measurement only, never part of the simulation
 };

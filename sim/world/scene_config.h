@@ -26,6 +26,15 @@ struct EffectsConfig {
   bool friction = false;       // Coulomb friction between food and knife / board
   bool topology = false;       // detect the pieces after every control step (paper's topology update)
   bool force_sensing = false;  // food -> knife wrench, applied to the robot and reported at the wrist
+  bool safety_limiter = false; // the paper's manipulation safety module (sim/safety, settings in SafetyConfig)
+};
+
+// The safety limiter's settings (used only with effects.safety_limiter; docs/safety.md).
+struct SafetyConfig {
+  double max_force_n = 100.0;          // F_max (N): the Panda's safe contact force
+  double margin = 0.1;                 // in [0, 0.9]: caps at (1 - margin) of v_safe and of F_max
+  std::vector<std::string> guards;     // speed, force, entry_angle; empty: all
+  double max_entry_angle_deg = 15.0;   // (0, 90]: blade tilt from vertical allowed while entering the food
 };
 
 // One food object on the board.
@@ -82,6 +91,7 @@ struct SceneConfig {
   std::string quality = "standard";        // MPM accuracy preset: draft, standard, fine (no effect without food)
   std::uint32_t max_episode_steps = 0;     // 0: never truncate
   EffectsConfig effects;
+  SafetyConfig safety;
   std::vector<FoodConfig> foods;
   MpmResolutionConfig mpm;
   TaskConfig task;
@@ -94,5 +104,7 @@ std::vector<double> ReadyPose();
 // An error message naming the offending field, or nothing when the config is valid.
 // (Joint positions are checked against the robot by CheckJointPositions in model.h.)
 std::optional<std::string> ValidateSceneConfig(const SceneConfig& config);
+// The same for the safety limiter's settings alone (fields scene.safety.*).
+std::optional<std::string> ValidateSafetyConfig(const SafetyConfig& safety);
 
 }  // namespace culinarycut

@@ -12,7 +12,7 @@
 namespace culinarycut {
 namespace {
 
-constexpr std::array<char, 8> kMagic = {'C', 'C', 'S', 'N', 'A', 'P', '0', '3'};
+constexpr std::array<char, 8> kMagic = {'C', 'C', 'S', 'N', 'A', 'P', '0', '4'};
 
 // Writes the fields in VisitState's order; optionally remembers where each field starts.
 class SnapshotWriter {

@@ -15,6 +15,7 @@ void ResetState(const Model& model, State* state, std::uint64_t seed, const std:
   state->seed = seed;
   state->episode_steps = 0;
   state->q_target_rad = q;
+  state->safety = safety::EpisodeSafety{};
   if (model.food) {
     if (!state->food) state->food = std::make_unique<FoodState>();
     ResetFood(*model.food, model.layout, state->food.get());

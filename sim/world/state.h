@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include "sim/safety/limiter.h"
 #include "sim/world/food_state.h"
 #include "sim/world/model.h"
 #include "sim/world/physics_world.h"
@@ -22,6 +23,7 @@ struct State {
   std::uint32_t episode_steps = 0;
   Eigen::VectorXd q_target_rad;           // what the joint PD controller tracks
   std::unique_ptr<FoodState> food;        // only when the model has food
+  safety::EpisodeSafety safety;           // the limiter's interventions, the knife's peak force and speed
 
   bool has_been_reset() const { return physics != nullptr; }
 };

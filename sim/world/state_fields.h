@@ -122,6 +122,18 @@ void VisitFood(Archive& archive, const Model& model, FoodState& food) {
   if constexpr (Archive::kReading) food.particle_bounds = ParticleBounds(food.solver->particles());
 }
 
+template <typename Archive>
+void VisitSafety(Archive& archive, safety::EpisodeSafety& safety) {
+  for (int i = 0; i < safety::kGuardCount; ++i) {
+    archive.Scalar((std::string("safety.interventions.") + safety::kGuardNames[i]).c_str(), safety.interventions[i]);
+  }
+  archive.Scalar("safety.peak_knife_force_n", safety.peak_knife_force_n);
+  archive.Scalar("safety.peak_cutting_speed_m_s", safety.peak_cutting_speed_m_s);
+  archive.Scalar("safety.v_safe_m_s", safety.v_safe_m_s);
+  archive.Scalar("safety.predicted_force_n", safety.predicted_force_n);
+  archive.Scalar("safety.out_of_range", safety.out_of_range);
+}
+
 }  // namespace state_fields_detail
 
 // Walks every field of a reset `state` (for reading: a state whose physics world and food were
@@ -133,6 +145,7 @@ void VisitState(Archive& archive, const Model& model, State& state) {
   archive.Scalar("sim_time_s", state.sim_time_s);
   archive.Scalar("seed", state.seed);
   archive.Scalar("episode_steps", state.episode_steps);
+  state_fields_detail::VisitSafety(archive, state.safety);
   Eigen::VectorXd q = state.physics->JointPositions();
   Eigen::VectorXd qdot = state.physics->JointVelocities();
   archive.Vector("robot.qpos_rad", q, dof);

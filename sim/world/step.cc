@@ -1,7 +1,10 @@
 #include "sim/world/step.h"
 
+#include <algorithm>
+
 #include "sim/robot/kinematics.h"
 #include "sim/world/food_step.h"
+#include "sim/world/safety_stage.h"
 #include "sim/world/snapshot.h"
 
 namespace culinarycut {
@@ -42,6 +45,17 @@ void AdvanceRobot(const Model& model, State* state) {
   }
   state->physics->SetJointVelocityCommand(qdot_command);
   state->physics->StepOnce();
+}
+
+// The knife's peak force and cutting speed this episode (the safety ablation's measures): the force
+// over every physics step, the TCP's speed along its cutting direction (+z, edge first) in contact.
+void RecordKnifePeaks(const Eigen::Isometry3d& tcp_start, const Eigen::Isometry3d& tcp_end, double timestep_s,
+                      bool contact, const KnifeWrench& wrench, safety::EpisodeSafety* safety) {
+  safety->peak_knife_force_n = std::max(safety->peak_knife_force_n, wrench.force_n.norm());
+  if (!contact) return;
+  const double cutting_speed_m_s =
+      (tcp_end.translation() - tcp_start.translation()).dot(tcp_start.linear().col(2)) / timestep_s;
+  safety->peak_cutting_speed_m_s = std::max(safety->peak_cutting_speed_m_s, cutting_speed_m_s);
 }
 
 // Stage "end of food step": contact bookkeeping over the control step, then piece detection.
@@ -100,6 +114,10 @@ StepResult Step(const Model& model, State* state, const Action& action, const Ca
     StageClock clock(&result.timings, Stage::kControl);
     ApplyAction(model, action, state, &result);
   }
+  if (model.limiter) {
+    StageClock clock(&result.timings, Stage::kSafety);
+    result.safety = LimitJointTarget(model, state);
+  }
   FoodState* food = state->food.get();
   KnifeWrench wrench_sum;  // over the physics steps, for the control step's mean
   // The knife's pose at the start of each physics step is the pose at the end of the one before.
@@ -117,6 +135,7 @@ StepResult Step(const Model& model, State* state, const Action& action, const Ca
     const FoodStepReport food_report =
         AdvanceFood(*model.food, tcp_start, tcp_end, model.physics_timestep_s, food, cancelled);
     if (food_report.cancelled && stop_here()) return result;
+    RecordKnifePeaks(tcp_start, tcp_end, model.physics_timestep_s, food_report.contact, food->wrench, &state->safety);
     tcp_start = tcp_end;
     result.mpm_substeps += food_report.substeps;
     result.knife_contact = result.knife_contact || food_report.contact;

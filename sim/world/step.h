@@ -1,5 +1,6 @@
 // One control step (MuJoCo's mj_step), as a short chain of named, timed stages:
-//   apply action -> per physics step (robot -> food) -> end of food step -> task evaluation -> clock.
+//   apply action -> safety limiter (only with it on) -> per physics step (robot -> food)
+//   -> end of food step -> task evaluation -> clock.
 // Reward, success and termination are the engine's, so a C++ user of sim/world gets them too.
 #pragma once
 
@@ -8,6 +9,7 @@
 
 #include "sim/core/stage_timer.h"
 #include "sim/robot/inverse_kinematics.h"
+#include "sim/safety/limiter.h"
 #include "sim/task/success_metrics.h"
 #include "sim/world/controller.h"
 #include "sim/world/model.h"
@@ -33,6 +35,7 @@ struct StepResult {
   // step's physics steps: the Panda pushes with all it has, and the food may be too hard to cut.
   bool knife_stalled = false;
   bool cancelled = false;         // the cancel check said stop: nothing of this step was applied
+  std::optional<safety::LimiterReport> safety;  // only with effects.safety_limiter
 
   // Wall time of each stage (ms); never part of the simulation, so never compared for determinism.
   StageTimes timings;

@@ -63,9 +63,10 @@ def run(address: str) -> list[str]:
             try:
                 reply = json_format.MessageToDict(invoke(request, timeout=60), preserving_proto_field_name=True,
                                                   including_default_value_fields=True)
-                code, message = "OK", ""
+                code, message, field = "OK", "", ""
             except grpc.RpcError as error:
                 reply, code, message = {}, error.code().name, error.details() or ""
+                field = dict(error.trailing_metadata() or ()).get("culinarycut-field", "")
             if "save" in call:
                 saved[call["save"]] = reply
             expect = call.get("expect", {"code": "OK"})
@@ -74,6 +75,8 @@ def run(address: str) -> list[str]:
                 break
             if "message_contains" in expect and expect["message_contains"] not in message:
                 failures.append(f"{where}: message {message!r} lacks {expect['message_contains']!r}")
+            if "field" in expect and field != expect["field"]:
+                failures.append(f"{where}: field detail {field!r}, expected {expect['field']!r}")
             for path, value in expect.get("fields", {}).items():
                 try:
                     actual = at_path(reply, path)

@@ -22,6 +22,7 @@ namespace v1 = culinarycut::v1;
 struct Reply {
   std::string code = "OK";
   std::string message;
+  std::string field;  // the culinarycut-field trailing metadata of an error
   json body = json::object();
 };
 
@@ -43,10 +44,15 @@ Reply Invoke(Client& client, const json& request_json, Method method) {
   const auto parsed = google::protobuf::util::JsonStringToMessage(request_json.dump(), &request);
   if (!parsed.ok()) return Reply{"BAD_CASE", "request does not parse: " + parsed.ToString(), {}};
   Response response;
-  const grpc::Status status = method(client.MakeContext().get(), request, &response);
+  const auto context = client.MakeContext();
+  const grpc::Status status = method(context.get(), request, &response);
   Reply reply;
   reply.code = CodeName(status.error_code());
   reply.message = status.error_message();
+  const auto trailing = context->GetServerTrailingMetadata();
+  if (const auto it = trailing.find("culinarycut-field"); it != trailing.end()) {
+    reply.field.assign(it->second.data(), it->second.size());
+  }
   if (status.ok()) {
     google::protobuf::util::JsonPrintOptions options;
     options.preserve_proto_field_names = true;
@@ -158,6 +164,9 @@ int main(int argc, char** argv) {
       if (expect.contains("message_contains") &&
           reply.message.find(expect["message_contains"].get<std::string>()) == std::string::npos) {
         fail(where, "message '" + reply.message + "' lacks '" + expect["message_contains"].get<std::string>() + "'");
+      }
+      if (expect.contains("field") && reply.field != expect["field"].get<std::string>()) {
+        fail(where, "field detail '" + reply.field + "', expected '" + expect["field"].get<std::string>() + "'");
       }
       const json fields = expect.value("fields", json::object());  // named: items() must not outlive it
       for (const auto& [path, value] : fields.items()) {

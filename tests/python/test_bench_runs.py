@@ -1,8 +1,11 @@
 """The benchmark runner through real servers on loopback, as a user runs it (`culinarycut bench ...` in a
 subprocess): the smoke suite end to end, kill -9 and resume, two servers through Dask with one of
-them killed mid-run, policy faults, version mixing, and the report against the database."""
+them killed mid-run, policy faults, version mixing, retrying stored errors, failure videos, the
+floor policies, and the report against the database."""
 from __future__ import annotations
 
+import contextlib
+import io
 import json
 import os
 import re
@@ -21,10 +24,35 @@ HERE = Path(__file__).resolve().parent
 # What must not differ between two runs of the same episodes (the same build, seeds and thread count).
 OUTCOME_COLUMNS = ("task", "trial", "seed", "instruction", "outcome", "end_reason", "steps", "pieces", "cuts",
                    "cuts_within_tolerance", "peak_force_n")
+# A small suite for the report sections and the floor policies: three ratios from each side (a radar
+# per side), a middle cut with topology on and off; 8 short draft episodes, about a second each.
+SECTIONS_SUITE = """name = "sections"
+description = "ratio radar by side and topology on/off, briefly"
+trials = 1
+max_episode_steps = 30
+quality = "draft"
+
+[[tasks]]
+food = "cucumber"
+state = "ratio"
+ratio = [0.3, 0.5, 0.7]
+side = ["left", "right"]
+
+[[tasks]]
+food = "cucumber"
+state = "middle"
+topology = [true, false]
+"""
+
+
+def with_tests_on_path(env: dict) -> dict:
+    """The environment plus this folder on PYTHONPATH (for bench_policies and the worker preload), keeping
+    what PYTHONPATH already named."""
+    return {**env, "PYTHONPATH": os.pathsep.join(filter(None, [str(HERE), env.get("PYTHONPATH")]))}
 
 
 def bench(*argv, timeout=600, check=True):
-    env = {**os.environ, "PYTHONPATH": str(HERE)}
+    env = with_tests_on_path(dict(os.environ))
     done = subprocess.run([sys.executable, "-m", "culinarycut", "bench", *argv], capture_output=True, text=True,
                           timeout=timeout, env=env)
     if check:
@@ -53,6 +81,49 @@ def rows_so_far(folder: Path) -> list[dict]:
 
 def outcomes(folder: Path) -> list[tuple]:
     return [tuple(r[c] for c in OUTCOME_COLUMNS) for r in rows(folder)]
+
+
+def traces(folder: Path) -> list[tuple]:
+    db = sqlite3.connect(folder / "results.sqlite")
+    try:
+        return db.execute("SELECT task, trial, trace FROM traces ORDER BY task, trial").fetchall()
+    finally:
+        db.close()
+
+
+def edit(folder: Path, statement: str, params=()) -> None:
+    db = sqlite3.connect(folder / "results.sqlite")
+    with db:
+        db.execute(statement, params)
+    db.close()
+
+
+@contextlib.contextmanager
+def dask_cluster(worker_env: dict, preload: str | None = None, scheduler_env: dict | None = None):
+    """A Dask scheduler and one single-thread worker, as a user starts them; yields the scheduler address."""
+    dask = Path(sys.executable).parent / "dask"
+    scheduler = subprocess.Popen([str(dask), "scheduler", "--host", "127.0.0.1", "--port", "0",
+                                  "--no-dashboard"], stderr=subprocess.PIPE, text=True,
+                                 env={**os.environ, **(scheduler_env or {})})
+    worker = None
+    try:
+        scheduler_address = None
+        for line in scheduler.stderr:
+            found = re.search(r"Scheduler at:\s+(tcp://\S+)", line)
+            if found:
+                scheduler_address = found.group(1)
+                break
+        assert scheduler_address, "the Dask scheduler did not start"
+        env = with_tests_on_path({**os.environ, **worker_env})
+        worker = subprocess.Popen([str(dask), "worker", scheduler_address, "--nthreads", "1", "--no-dashboard"] +
+                                  (["--preload", preload] if preload else []),
+                                  env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        yield scheduler_address
+    finally:
+        for process in (worker, scheduler):
+            if process is not None:
+                process.terminate()
+                process.wait(timeout=30)
 
 
 def wait_for_rows(folder: Path, count: int, proc: subprocess.Popen, timeout_s: float = 300) -> None:
@@ -213,31 +284,31 @@ def test_the_html_report_renders_in_a_headless_browser(smoke_run, tmp_path):
 
 def test_episodes_go_to_an_existing_dask_cluster_whose_worker_is_bound_to_a_server(address, second_server, tmp_path):
     """--scheduler: a user's own cluster; the worker's CULINARYCUT_SERVER decides where its episodes run."""
-    dask = Path(sys.executable).parent / "dask"
-    scheduler = subprocess.Popen([str(dask), "scheduler", "--host", "127.0.0.1", "--port", "0",
-                                  "--no-dashboard"], stderr=subprocess.PIPE, text=True)
-    worker = None
-    try:
-        scheduler_address = None
-        for line in scheduler.stderr:
-            found = re.search(r"Scheduler at:\s+(tcp://\S+)", line)
-            if found:
-                scheduler_address = found.group(1)
-                break
-        assert scheduler_address, "the Dask scheduler did not start"
-        worker = subprocess.Popen([str(dask), "worker", scheduler_address, "--nthreads", "1", "--no-dashboard"],
-                                  env={**os.environ, "CULINARYCUT_SERVER": second_server.address},
-                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    with dask_cluster({"CULINARYCUT_SERVER": second_server.address}) as scheduler_address:
         out = tmp_path / "remote"
         bench("run", "smoke", "--tasks", "cucumber/normal/ratio-*", "--trials", "1", "--server", address,
               "--scheduler", scheduler_address, "--out", str(out), "--no-progress")
         (row,) = rows(out)
         assert row["outcome"] == "success" and row["server"] == second_server.address
-    finally:
-        for process in (worker, scheduler):
-            if process is not None:
-                process.terminate()
-                process.wait(timeout=30)
+
+
+def test_a_worker_bound_to_a_server_of_another_build_stops_the_run_before_its_row_is_stored(
+        sections_suite, address, second_server, tmp_path):
+    """The pre-flight check asks only the --server addresses; the row a worker brings back is checked too."""
+    from other_build_worker import OTHER_BUILD, OTHER_VERSION
+    with dask_cluster({"CULINARYCUT_SERVER": second_server.address}, preload="other_build_worker") as scheduler:
+        out = tmp_path / "mixed-worker"
+        argv = ["run", str(sections_suite), "--policy", "noop", "--tasks", "cucumber/normal/middle", "--server",
+                address, "--scheduler", scheduler, "--out", str(out), "--no-progress"]
+        refused = bench(*argv, check=False)
+        assert refused.returncode == 1, refused.stderr
+        assert f"ran on {second_server.address}, {OTHER_VERSION} (build {OTHER_BUILD})" in refused.stderr
+        assert "Traceback" not in refused.stderr and "--allow-mixed-versions" in refused.stderr
+        assert re.search(r"resume with:\n  culinarycut bench run .*sections\.toml", refused.stderr)
+        assert rows(out) == []
+        bench(*argv, "--allow-mixed-versions")
+        (row,) = rows(out)
+        assert (row["server_version"], row["build_id"]) == (OTHER_VERSION, OTHER_BUILD)
 
 
 def test_ctrl_c_stops_the_run_and_says_how_to_resume(address, tmp_path):
@@ -250,3 +321,128 @@ def test_ctrl_c_stops_the_run_and_says_how_to_resume(address, tmp_path):
     _, stderr = proc.communicate(timeout=120)
     assert proc.returncode == 130, stderr
     assert re.search(r"stopped: \d of 4 episodes are stored in .*; resume with:\n  culinarycut bench run smoke", stderr)
+
+
+def test_a_task_that_fails_on_its_worker_stops_the_run_with_the_resume_hint_not_as_bad_input(address, tmp_path):
+    """A ValueError from inside an episode is no usage error (exit 2): the run stops (exit 1), says which
+    episode and how to resume, and prints no traceback."""
+    suite = tmp_path / "bug.toml"
+    suite.write_text('name = "bug"\ndescription = "a policy bug"\ntrials = 1\nmax_episode_steps = 5\n'
+                     '[[tasks]]\nfood = "cucumber"\nstate = "middle"\n')
+    done = bench("run", str(suite), "--policy", "bench_policies:CamerasBugPolicy", "--server", address,
+                 "--workers", "1", "--out", str(tmp_path / "bug"), "--no-progress", check=False)
+    assert done.returncode == 1, done.stderr
+    assert ("error: episode cucumber/normal/middle trial 0 failed on its worker: "
+            "ValueError: camera 'wrist' has no resolution") in done.stderr
+    assert re.search(r"0 of 1 episodes are stored; resume with:\n  culinarycut bench run .*bug\.toml", done.stderr)
+    assert "Traceback" not in done.stderr
+
+
+def test_a_worker_killed_mid_episode_stops_the_run_with_the_resume_hint(second_server, tmp_path):
+    """KilledWorker (here at the first death: allowed-failures 0) is reported as such, not as a traceback.
+    On the second server: the killed worker's session stays open there until its idle timeout."""
+    suite = tmp_path / "killed.toml"
+    suite.write_text('name = "killed"\ndescription = "a worker killed"\ntrials = 1\nmax_episode_steps = 5\n'
+                     '[[tasks]]\nfood = "cucumber"\nstate = "middle"\n')
+    with dask_cluster({}, scheduler_env={"DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES": "0"}) as scheduler:
+        done = bench("run", str(suite), "--policy", "bench_policies:WorkerKillingPolicy", "--server",
+                     second_server.address, "--scheduler", scheduler, "--out", str(tmp_path / "killed"),
+                     "--no-progress", check=False)
+    assert done.returncode == 1, done.stderr
+    assert "error: episode cucumber/normal/middle trial 0: the Dask workers running it died" in done.stderr
+    assert re.search(r"0 of 1 episodes are stored; resume with:\n  culinarycut bench run .*killed\.toml", done.stderr)
+    assert "Traceback" not in done.stderr
+
+
+@pytest.fixture(scope="module")
+def sections_suite(tmp_path_factory) -> Path:
+    path = tmp_path_factory.mktemp("suites") / "sections.toml"
+    path.write_text(SECTIONS_SUITE)
+    return path
+
+
+@pytest.fixture(scope="module")
+def noop_run(sections_suite, address, tmp_path_factory) -> Path:
+    """The sections suite with the noop policy, failure videos on: every episode fails and is filmed."""
+    out = tmp_path_factory.mktemp("noop") / "run"
+    bench("run", str(sections_suite), "--policy", "noop", "--record-failures", "--server", address,
+          "--workers", "2", "--out", str(out), "--no-progress")
+    return out
+
+
+def test_record_failures_keeps_a_gif_of_each_failed_episode_and_the_report_shows_it(noop_run, tmp_path):
+    from PIL import Image, ImageSequence
+    stored = rows(noop_run)
+    assert len(stored) == 8 and {r["outcome"] for r in stored} == {"failure"}
+    for row in stored:
+        gif = Image.open(noop_run / row["video"])
+        assert gif.format == "GIF" and gif.size == (160, 120)
+        # 30 steps, every second one at 100 ms (identical frames, the knife held still, merge into one)
+        assert sum(frame.info["duration"] for frame in ImageSequence.Iterator(gif)) == 15 * 100
+    bench("report", str(noop_run), "--out", str(tmp_path))
+    markdown = (tmp_path / "report.md").read_text()
+    failures = markdown.split("## First failure of each task")[1]
+    for row in stored:  # one failure per task, each with its video beside the report
+        name = Path(row["video"]).name
+        assert f"![{row['task']}, trial 0](report_files/{name})" in failures
+        assert (tmp_path / "report_files" / name).read_bytes() == (noop_run / row["video"]).read_bytes()
+    assert (tmp_path / "report.html").read_text().count("data:image/gif;base64,") == 8
+
+
+def test_the_report_has_a_radar_per_side_and_topology_on_and_off_from_a_stored_run(noop_run, tmp_path):
+    from PIL import Image
+    bench("report", str(noop_run), "--out", str(tmp_path))
+    markdown = (tmp_path / "report.md").read_text()
+    assert "![Ratio cuts on cucumber](report_files/ratio_radar_cucumber.png)" in markdown
+    radar = Image.open(tmp_path / "report_files" / "ratio_radar_cucumber.png")
+    assert radar.width > 1.6 * radar.height  # two polar panels side by side: from the left, from the right
+    topology = markdown.split("## Topology updates on and off")[1].split("##")[0]
+    expected: dict[str, list[str]] = {}  # task without /topology-off: success with it on, with it off
+    for row in rows(noop_run):  # one trial per task
+        cells = expected.setdefault(row["task"].replace("/topology-off", ""), ["-", "-"])
+        cells[0 if row["topology"] else 1] = f"{int(row['outcome'] == 'success')}/1"
+    assert expected["cucumber/normal/middle"] == ["0/1", "0/1"]
+    for task, (on, off) in expected.items():
+        line = next(line for line in topology.splitlines() if line.startswith(f"| {task} |"))
+        assert line.split(" | ")[1::2] == [on, off], line  # task | on: success | on: rate | off: success | ...
+
+
+def test_the_random_policy_gives_the_same_episodes_in_two_runs_of_the_same_suite(sections_suite, address, tmp_path):
+    for name in ("first", "second"):
+        bench("run", str(sections_suite), "--policy", "random", "--server", address, "--workers", "2",
+              "--out", str(tmp_path / name), "--no-progress")
+    first, second = rows(tmp_path / "first"), rows(tmp_path / "second")
+    assert len(first) == 8
+    assert outcomes(tmp_path / "first") == outcomes(tmp_path / "second")
+    assert [r["peak_speed_m_s"] for r in first] == [r["peak_speed_m_s"] for r in second]
+    assert traces(tmp_path / "first") == traces(tmp_path / "second")  # knife speed and height, step by step
+    assert len({r["peak_speed_m_s"] for r in first}) == 8  # each episode drew its own actions, and moved
+    assert min(r["peak_speed_m_s"] for r in first) > 0.1
+
+
+def test_retry_errors_reruns_the_episodes_stored_as_server_errors_and_replaces_their_rows(
+        sections_suite, address, tmp_path):
+    out = tmp_path / "retried"
+    argv = ["run", str(sections_suite), "--policy", "noop", "--tasks", "cucumber/normal/middle*", "--server",
+            address, "--out", str(out), "--no-progress"]
+    bench(*argv)
+    kept, errored = rows(out)
+    # As a deadline on the episode's first call leaves it: the row names no server version.
+    edit(out, "UPDATE episodes SET outcome = 'error', end_reason = 'server_error', server_version = '', "
+              "build_id = '', error = 'DEADLINE_EXCEEDED: Deadline Exceeded' WHERE task = ?", (errored["task"],))
+    resumed = bench(*argv)  # an error row names no version: no "mixed versions" refusal
+    assert "this run: 0 episodes" in resumed.stdout
+    assert rows(out)[1]["end_reason"] == "server_error"
+    bench("report", str(out), "--out", str(tmp_path / "report"))
+    summary = (tmp_path / "report" / "report.md").read_text().split("## ")[0]
+    assert f"| noop @ {kept['server_version']} ({kept['build_id']}) |" in summary  # the error row names no build
+    retried = bench(*argv, "--retry-errors")
+    assert "this run: 1 episodes" in retried.stdout and "1 stored errors run again" in retried.stdout
+    now_kept, now_retried = rows(out)
+    assert now_kept == kept  # untouched, finished_at included
+    assert now_retried["outcome"] == "failure" and now_retried["end_reason"] == errored["end_reason"]
+    assert (now_retried["server_version"], now_retried["build_id"]) == (errored["server_version"],
+                                                                        errored["build_id"])
+    assert now_retried["error"] == "" and now_retried["finished_at"] > errored["finished_at"]
+    again = bench(*argv, "--retry-errors")
+    assert "this run: 0 episodes" in again.stdout  # nothing left to retry

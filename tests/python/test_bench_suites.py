@@ -44,6 +44,14 @@ def test_every_shipped_suite_loads_and_the_paper_settings_are_there():
     ('[[tasks]]\nfood = "durian"\nstate = "middle"\n', r"suite.tasks\[0\].food: 'durian' is not one of"),
     ('[[tasks]]\nfood = ["apple", "kiwi"]\nstate = "middle"\n', r"suite.tasks\[0\].food\[1\]: 'kiwi'"),
     ('[[tasks]]\nfood = "apple"\nstate = "middle"\ncolour = "red"\n', r"suite.tasks\[0\].*'colour' was unexpected"),
+    # an unknown field: the message lists the fields that may stand there
+    ('[[tasks]]\nfood = "apple"\nstate = "middle"\ncolour = "red"\n',
+     r"'colour' was unexpected\); valid fields: name, group, food, style, state, ratio, side, pieces, distractors, "
+     r"topology, scene, language, quality, trials, max_episode_steps, material_overrides$"),
+    ('randomize = { yaw = 5 }\n[[tasks]]\nfood = "apple"\nstate = "middle"\n',
+     r"^suite.randomize: .*'yaw' was unexpected\); valid fields: position_m, yaw_deg, scale$"),
+    ('[report]\nratio_radar = true\n[[tasks]]\nfood = "apple"\nstate = "middle"\n',
+     r"^suite: .*'report' was unexpected\); valid fields: name, description, trials, .*, tasks$"),
     ('trials = 0\n[[tasks]]\nfood = "apple"\nstate = "middle"\n', r"suite.trials: 0 is less than the minimum"),
     ('[[tasks]]\nfood = "apple"\nstate = "ratio"\nratio = 1.5\n', r"suite.tasks\[0\].ratio"),
     ('[[tasks]]\nfood = "apple"\n', r"suite.tasks\[0\]: 'state' is a required property"),
@@ -93,6 +101,7 @@ def test_distractors_are_other_foods_in_distinct_slots_around_the_target():
     (["bench", "run", "smoke", "--policy", "telepathy"], "unknown policy 'telepathy'; choose one of: noop, "),
     (["bench", "run", "smoke", "--workers", "0"], "--workers must be at least 1"),
     (["bench", "run", "smoke", "--policy", "random", "--policy-option", "scale=7"], "scale must be in"),
+    (["bench", "run", "smoke", "--policy", "random", "--policy-option", "scale"], "'scale': use key=value"),
     (["bench", "show", "no-such-suite"], "unknown suite"),
 ])
 def test_the_cli_refuses_bad_input_with_exit_code_2(argv, message):

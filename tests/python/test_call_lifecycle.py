@@ -83,6 +83,35 @@ def test_sigterm_during_a_long_step_exits_within_2_s():
         server.kill()
 
 
+def test_a_second_stop_signal_exits_at_once_during_a_long_step():
+    server = ServerProcess(server_binary(), max_sessions=2)
+    try:
+        with Client(server.address, timeout_s=30.0) as client:
+            session = client.create_session(SLOW_SCENE).session_id
+            client.reset(session, seed=0)
+            _, mode, values = approach_until_slow(server.address, session, deadline_s=1.0)
+            stepping = threading.Thread(target=lambda: _step_ignoring_errors(client, session, mode, values))
+            stepping.start()
+            time.sleep(0.5)
+            server.proc.send_signal(signal.SIGTERM)
+            time.sleep(0.05)
+            server.proc.send_signal(signal.SIGTERM)
+            code = server.proc.wait(timeout=10)
+            stepping.join(timeout=10)
+        # The second signal does not wait for the grace period: exit code 1 and the log says why.
+        assert code == 1, server.output()
+        assert "second stop signal" in server.output()
+    finally:
+        server.kill()
+
+
+def _step_ignoring_errors(client, session, mode, values):
+    try:
+        client.step(session, mode, values)
+    except CulinaryCutError:  # the server goes away mid-call
+        pass
+
+
 def test_a_second_server_on_a_taken_port_fails_at_start():
     with ServerProcess(server_binary(), max_sessions=1) as first:
         port = first.address.rsplit(":", 1)[1]
@@ -102,6 +131,8 @@ def test_an_absurd_session_id_gets_a_short_answer(client):
 
 
 @pytest.mark.parametrize("args, flag", [(["--listen", "0.0.0.0:0", "--telemetry", ""], "--listen 0.0.0.0:0"),
+                                        # a host name that merely starts with "127." is not loopback
+                                        (["--listen", "127.example.com:0", "--telemetry", ""], "--listen 127.example.com:0"),
                                         (["--listen", "127.0.0.1:0", "--telemetry", "tcp://0.0.0.0:0"], "--telemetry")])
 def test_off_loopback_without_tls_needs_insecure(args, flag):
     refused = subprocess.run([str(server_binary()), *args], capture_output=True, text=True, timeout=30)

@@ -109,3 +109,76 @@ def test_keys_in_the_page_move_the_knife_and_record_a_demonstration(teleop, brow
     assert client.observe(teleop["session"]).stamp.frame_id == frame
     assert frame >= steps_before
     client.close()
+
+
+# A gamepad in the standard mapping, stubbed into the page: navigator.getGamepads answers this object.
+GAMEPAD_STUB = """
+window.stubPad = {axes: [0, 0, 0, 0], buttons: Array.from({length: 17}, () => ({pressed: false, value: 0}))};
+Object.defineProperty(navigator, "getGamepads", {value: () => [window.stubPad], configurable: true});
+"""
+PAD_A, PAD_X, DPAD_UP = 0, 2, 12
+
+
+def _pad(browser, axes=(0, 0, 0, 0), pressed=()):
+    browser.execute_script("window.stubPad.axes = arguments[0]; window.stubPad.buttons.forEach((b, i) => {"
+                           " b.pressed = arguments[1].includes(i); b.value = b.pressed ? 1 : 0; });",
+                           list(axes), list(pressed))
+
+
+def _status(browser) -> str:
+    return browser.find_element("id", "status").text
+
+
+def _rotation_rad(a, b) -> float:
+    return 2.0 * float(np.arccos(min(1.0, abs(float(np.dot(a, b))))))
+
+
+def test_gamepad_reset_and_a_recording_too_short_to_save(teleop, browser, address):
+    from selenium.webdriver.common.action_chains import ActionChains
+    client = Client(address, timeout_s=60)
+    start = np.asarray(client.observe(teleop["session"]).observation.tcp_pose)
+    browser.get(teleop["url"] + "/")
+    _wait(lambda: browser.find_element("id", "force").text not in ("", "-"), 30, "the force readout")
+    browser.execute_script(GAMEPAD_STUB)
+
+    # started and stopped without a step: one sample, which is no demonstration; nothing is saved
+    browser.find_element("id", "record").click()
+    _wait(lambda: _status(browser) == "recording", 10, "recording to start")
+    browser.find_element("id", "record").click()
+    _wait(lambda: "nothing saved" in _status(browser), 10, "the refusal")
+    assert browser.find_element("id", "record").text == "Start recording"
+    assert not list(teleop["demos"].glob("demo_*.json"))
+
+    # the gamepad: A records, the left stick pushed forward drives +x and the D-pad pitches, X rates
+    _pad(browser, pressed=[PAD_A])
+    _wait(lambda: _status(browser) == "recording", 10, "A to start recording")
+    _pad(browser, axes=(0, -1, 0, 0), pressed=[DPAD_UP])
+    _wait(lambda: int(browser.find_element("id", "steps").text) >= 8, 20, "steps from the gamepad")
+    _pad(browser)
+    time.sleep(0.5)
+    moved = np.asarray(client.observe(teleop["session"]).observation.tcp_pose)
+    assert moved[0] - start[0] > 0.01, f"the stick should move the knife to +x: {moved[:3] - start[:3]} m"
+    assert _rotation_rad(moved[3:], start[3:]) > 0.1, "the D-pad should pitch the knife"
+    _pad(browser, pressed=[PAD_A])
+    _wait(lambda: _status(browser).startswith("saved demo_"), 20, "A to stop and save")
+    _pad(browser, pressed=[PAD_X])
+    _wait(lambda: "marked good" in _status(browser), 10, "X to rate it good")
+    _pad(browser)
+    first = load_demonstration(sorted(teleop["demos"].glob("demo_*.json"))[0])
+    assert first.rating == "good" and len(first.time_s) >= 8
+
+    # R resets to the seed: the knife is back where it started, and the next recording starts there too
+    ActionChains(browser).send_keys("r").perform()
+    _wait(lambda: _status(browser) == "reset to the seed", 20, "the reset")
+    np.testing.assert_allclose(client.observe(teleop["session"]).observation.tcp_pose, start, atol=1e-9)
+    browser.find_element("id", "record").click()
+    _wait(lambda: _status(browser) == "recording", 10, "the second recording")
+    ActionChains(browser).key_down("q").pause(0.5).key_up("q").perform()
+    _wait(lambda: int(browser.find_element("id", "steps").text) >= 3, 20, "steps after the reset")
+    browser.find_element("id", "record").click()
+    _wait(lambda: _status(browser).startswith("saved demo_"), 20, "the second file")
+    files = sorted(teleop["demos"].glob("demo_*.json"))
+    assert len(files) == 2
+    second = load_demonstration(files[1])
+    np.testing.assert_allclose(second.relative_pose[0], first.relative_pose[0], atol=1e-9)
+    client.close()

@@ -74,6 +74,19 @@ def test_demonstration_is_object_relative(dataset):
     assert demo.cut_speed_m_s > 0.005
 
 
+def test_demonstration_episode_phases_follow_the_knife(dataset):
+    """A replayed demonstration's contact phase comes from the knife's state against the food."""
+    with GenerationStore(dataset["root"]) as store:
+        row = next(r for r in store.rows() if r["key"].startswith("demo-"))
+    _, steps = read_episode(dataset["root"] / row["file"])
+    phases, contact = list(steps["phase"]), steps["knife_contact"].astype(bool)
+    assert all(phase == "cut" for phase, touching in zip(phases, contact) if touching)
+    first = {phase: phases.index(phase) for phase in dict.fromkeys(phases)}
+    assert first["approach"] == 0 and first["approach"] < first["descend"] < first["cut"] < first["retreat"], phases
+    assert first["cut"] < int(np.argmax(contact)), "the cut starts above the food, at the drawn height"
+    assert phases[-1] == "retreat" and "cut" not in phases[phases.index("retreat"):], phases
+
+
 def test_robomimic_hdf5_read_back(dataset):
     with h5py.File(dataset["export"]["robomimic"], "r") as file:
         data = file["data"]
@@ -112,7 +125,11 @@ def test_lerobot_v21_read_back(dataset):
     features = info["features"]
     video_keys = [k for k, f in features.items() if f["dtype"] == "video"]
     assert sorted(video_keys) == [f"observation.images.{c}" for c in sorted(CAMERAS)]
-    index_start = 0
+    for name, spec in features.items():  # LeRobot: one name per element
+        if spec["dtype"] != "video":
+            assert spec["names"] is None or len(spec["names"]) == spec["shape"][0], name
+    assert info["contact_phases"][:3] == ["approach", "descend", "cut"]
+    index_start, referenced, task_by_index = 0, set(), {t["task_index"]: t["task"] for t in tasks}
     for episode in episodes:
         chunk = episode["episode_index"] // info["chunks_size"]
         path = root / info["data_path"].format(episode_chunk=chunk, episode_index=episode["episode_index"])
@@ -132,8 +149,9 @@ def test_lerobot_v21_read_back(dataset):
         assert table.column("episode_index").to_pylist() == [episode["episode_index"]] * episode["length"]
         assert table.column("frame_index").to_pylist() == list(range(episode["length"]))
         assert table.column("index").to_pylist() == list(range(index_start, index_start + episode["length"]))
-        task_index = set(table.column("task_index").to_pylist())
-        assert len(task_index) == 1 and tasks[task_index.pop()]["task"] in episode["tasks"]
+        frame_tasks = [task_by_index[i] for i in table.column("task_index").to_pylist()]
+        assert frame_tasks == [episode["tasks"][f % len(episode["tasks"])] for f in range(episode["length"])]
+        referenced.update(frame_tasks)
         index_start += episode["length"]
         for key in video_keys:
             video = root / info["video_path"].format(episode_chunk=chunk, video_key=key,
@@ -150,6 +168,8 @@ def test_lerobot_v21_read_back(dataset):
         stat = stats[episode["episode_index"]]["stats"]
         assert np.asarray(stat["observation.images.front"]["mean"]).shape == (3, 1, 1)
         assert len(stat["action"]["mean"]) == features["action"]["shape"][0]
+    # every instruction of every episode is a task, and frames prompt with each of them
+    assert referenced == {t["task"] for t in tasks} == {t for e in episodes for t in e["tasks"]}
 
 
 def test_rdt_hdf5_and_statistics(dataset):

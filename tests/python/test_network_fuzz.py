@@ -83,6 +83,7 @@ def test_random_requests_never_take_the_server_down(server):
     channel = grpc.insecure_channel(server.address)
     methods = [(f"/{service.full_name}/{method.name}", method) for service in SERVICES for method in service.methods]
     codes: dict[str, int] = {}
+    unnamed: list[str] = []  # INVALID_ARGUMENT replies that do not name their field
     started = time.monotonic()
     for _ in range(REQUESTS):
         path, method = rng.choice(methods)
@@ -101,6 +102,10 @@ def test_random_requests_never_take_the_server_down(server):
             assert code != "UNKNOWN", f"{path}: {err.details()}"
             assert code != "DEADLINE_EXCEEDED", f"{path} hung for 10 s"
             assert len(err.details() or "") <= 1200, f"{path}: a {len(err.details())}-character message"
+            if code == "INVALID_ARGUMENT":
+                field = dict(err.trailing_metadata() or ()).get("culinarycut-field", "")
+                if not field:
+                    unnamed.append(f"{path}: {err.details()}")
         codes[code] = codes.get(code, 0) + 1
         assert server.proc.poll() is None, f"the server died on {path}:\n{server.output()}"
     # gRPC health, overall (an empty HealthCheckRequest); the reply {status: SERVING} is the bytes 08 01.
@@ -108,4 +113,5 @@ def test_random_requests_never_take_the_server_down(server):
     assert health(b"", timeout=10) == b"\x08\x01"
     channel.close()
     assert codes.get("INVALID_ARGUMENT", 0) > REQUESTS // 4, codes
+    assert not unnamed, f"{len(unnamed)} INVALID_ARGUMENT replies name no field, e.g.:\n" + "\n".join(unnamed[:10])
     assert time.monotonic() - started < 300

@@ -174,9 +174,51 @@ def test_axis_angle_of_a_quarter_turn():
 
 # --- actions and chunks -------------------------------------------------------------------------------
 def test_delta_action_in_control_units_and_gripper_dropped():
-    mode, values = actions.delta_to_ee_delta_pose([0.01, -0.02, 0.0, 0.05, 0.0, -0.1, 1.0])
+    mode, values = actions.delta_to_ee_delta_pose([0.01, -0.02, 0.0, 0.05, 0.0, -0.1, 1.0], "metres_radians")
     assert mode == "pd_ee_delta_pose"
     np.testing.assert_allclose(values, [0.1, -0.2, 0.0, 0.5, 0.0, -1.0])
+
+
+@pytest.mark.parametrize("units, action, expected", [
+    # pd_ee_delta_pose's own units (ManiSkill): 1 = 0.1 m / 0.1 rad already, passed through unchanged
+    ("maniskill_normalised", [0.3, -0.5, 0.0, 0.2, 0.0, -1.0, 1.0], [0.3, -0.5, 0.0, 0.2, 0.0, -1.0]),
+    # robosuite OSC_POSE (LIBERO): 1 = 0.05 m -> 0.5 of ours, 1 = 0.5 rad -> 5 of ours; input clipped to [-1, 1]
+    ("robosuite_osc", [0.2, -0.4, 1.0, 0.02, -0.1, 0.0, -1.0], [0.1, -0.2, 0.5, 0.1, -0.5, 0.0]),
+    ("robosuite_osc", [3.0, -2.0, 0.0, 0.0, 0.0, 7.0], [0.5, -0.5, 0.0, 0.0, 0.0, 5.0]),
+    ("metres_radians", [0.005, 0.0, -0.01, 0.0, 0.02, 0.0], [0.05, 0.0, -0.1, 0.0, 0.2, 0.0]),
+])
+def test_delta_action_units_golden(units, action, expected):
+    mode, values = actions.delta_to_ee_delta_pose(action, units)
+    assert mode == "pd_ee_delta_pose"
+    np.testing.assert_allclose(values, expected, atol=1e-12)
+
+
+def test_action_units_come_from_the_statistics_or_the_option(tmp_path):
+    policy_support.write_statistics(tmp_path)
+    path = tmp_path / "dataset_statistics.json"
+    stats, units = actions.load_delta_ee_statistics(path, policy_support.DELTA_KEY, None, policy="t", proprio=True)
+    assert units == "metres_radians" and stats.key == policy_support.DELTA_KEY
+    with pytest.raises(statistics.StatisticsError, match="option action_units='robosuite_osc' contradicts"):
+        actions.load_delta_ee_statistics(path, policy_support.DELTA_KEY, "robosuite_osc", policy="t", proprio=False)
+    with pytest.raises(ValueError, match="option action_units='inches'; choose one of metres_radians"):
+        actions.load_delta_ee_statistics(path, policy_support.DELTA_KEY, "inches", policy="t", proprio=False)
+    # the RDT key is in another layout: refused, naming both
+    with pytest.raises(statistics.StatisticsError, match="has action_layout 'rdt_unified_16', but this adapter "
+                                                         "reads 'delta_ee_xyz_euler_xyz_gripper'"):
+        actions.load_delta_ee_statistics(path, policy_support.RDT_KEY, None, policy="t", proprio=False)
+    # without unnorm_key the one key in the adapter's layout is chosen
+    chosen, _ = actions.load_delta_ee_statistics(path, None, None, policy="t", proprio=False)
+    assert chosen.key == policy_support.DELTA_KEY
+    # a file that does not say its units (upstream's own statistics) needs the option
+    document = json.loads(path.read_text())
+    for field in ("action_units", "action_layout", "proprio_layout"):
+        del document[policy_support.DELTA_KEY][field]
+    bare = tmp_path / "upstream.json"
+    bare.write_text(json.dumps({"bridge_orig": document[policy_support.DELTA_KEY]}))
+    with pytest.raises(statistics.StatisticsError, match="does not say its action_units; set option action_units="):
+        actions.load_delta_ee_statistics(bare, None, None, policy="t", proprio=False)
+    _, units = actions.load_delta_ee_statistics(bare, None, "robosuite_osc", policy="t", proprio=False)
+    assert units == "robosuite_osc"
     mode, values = actions.pose_to_ee_pose_quat([0.5, 0, 0.2], np.diag([1.0, -1.0, -1.0]))
     assert mode == "pd_ee_pose_quat"
     np.testing.assert_allclose(values, [0.5, 0, 0.2, 0, 1, 0, 0], atol=1e-12)
@@ -237,3 +279,31 @@ def test_msgpack_numpy_matches_openpi_client_both_ways():
     hostile = upstream.Packer().pack({b"__ndarray__": True, b"data": b"", b"dtype": "|O", b"shape": [0]})
     with pytest.raises(ValueError, match="refusing numpy dtype object"):
         msgpack_numpy.unpackb(hostile)
+
+
+# --- RDT language embeddings -----------------------------------------------------------------------------
+def test_rdt_embeddings_from_encode_lang_pt_files_or_npz(tmp_path):
+    from culinarycut_policies import rdt_language
+    npz = tmp_path / "instructions.npz"
+    np.savez(npz, **{"cut the cucumber": np.full((1, 3, 4096), 0.5, np.float32)})
+    loaded = rdt_language.load_embeddings(str(npz))
+    assert list(loaded) == ["cut the cucumber"] and loaded["cut the cucumber"].shape == (3, 4096)
+    np.savez(tmp_path / "bad.npz", x=np.zeros((3, 512), np.float32))
+    with pytest.raises(ValueError, match=r"bad.npz\['x'\]: expected embeddings \(1, L, 4096\)"):
+        rdt_language.load_embeddings(str(tmp_path / "bad.npz"))
+    try:
+        import torch
+    except ImportError:
+        torch = None
+    pt = tmp_path / "cut.pt"
+    if torch is None:  # the message says what to do
+        pt.write_bytes(b"not read")
+        with pytest.raises(ValueError, match="needs torch, which is not importable here"):
+            rdt_language.load_embeddings(str(pt))
+        return
+    # encode_lang.py's file: {"name", "instruction", "embeddings" (1, L, 4096)}
+    torch.save({"name": "cut", "instruction": "cut the apple", "embeddings": torch.full((1, 4, 4096), 0.25)}, pt)
+    loaded = rdt_language.load_embeddings(str(tmp_path))  # a folder of .pt files
+    assert list(loaded) == ["cut the apple"] and loaded["cut the apple"].shape == (4, 4096)
+    assert rdt_language.main([str(tmp_path / "out.npz"), str(pt)]) == 0
+    np.testing.assert_array_equal(np.load(tmp_path / "out.npz")["cut the apple"], loaded["cut the apple"])

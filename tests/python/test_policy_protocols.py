@@ -5,9 +5,13 @@ from __future__ import annotations
 
 import asyncio
 import http.client
+import json
+import socket
+import tempfile
 import threading
 import time
 import urllib.request
+from pathlib import Path
 
 import json_numpy
 import numpy as np
@@ -166,10 +170,18 @@ def test_json_numpy_request_as_deploy_py_documents(rest_server):
     action = json_numpy.loads(body)
     assert status == 200 and isinstance(action, np.ndarray) and action.shape == (7,) and action.dtype == np.float64
     assert b'"__numpy__"' in body and fake.last_prompt == "In: What action should the robot take to cut the apple?\nOut:"
-    # deploy.py's "double-encoded" form for clients without json-numpy.
+    # deploy.py's "double-encoded" form for clients without json-numpy: `encoded` must be the only key, and
+    # the answer is JSONResponse(json_numpy.dumps(action)), a JSON string holding the json-numpy text.
     encoded = json_numpy.dumps({"image": image, "instruction": "Cut The Apple", "unnorm_key": policy_support.DELTA_KEY})
-    status, body2 = post(server.url + "/act", json_numpy.dumps({"encoded": encoded}).encode())
-    np.testing.assert_array_equal(json_numpy.loads(body2), action)
+    status, body2 = post(server.url + "/act", json.dumps({"encoded": encoded}).encode())
+    text = json.loads(body2)  # plain JSON: a client without json-numpy gets a string
+    assert status == 200 and isinstance(text, str) and text.startswith('{"__numpy__"')
+    np.testing.assert_array_equal(json_numpy.loads(text), action)
+    assert post(server.url + "/act", json.dumps({"encoded": encoded, "extra": 1}).encode()) == (200, b'"error"')
+    # our client reads a double-encoded answer too
+    client = JsonNumpyRestClient(server.url, FAST)
+    np.testing.assert_array_equal(client.query({"encoded": encoded}), action)
+    client.close()
 
 
 def test_failure_is_the_string_error_with_http_200(rest_server):
@@ -206,6 +218,68 @@ def test_rest_query_timeout_and_reconnect(tmp_path):
         JsonNumpyRestClient(server.url, FAST).query({"sleep": 0.0})
 
 
+class CountingHttpServer:
+    """A raw HTTP/1.1 server on a real socket that counts the complete requests it reads and, per request,
+    either answers (then closes the idle connection: a stale keep-alive for the client) or closes without
+    answering (the model side died after receiving the query)."""
+
+    def __init__(self, answer: bool):
+        self.answer = answer
+        self.requests = 0
+        self.listener = socket.create_server(("127.0.0.1", 0))
+        self.url = f"http://127.0.0.1:{self.listener.getsockname()[1]}"
+        threading.Thread(target=self._serve, daemon=True).start()
+
+    def _serve(self):
+        while True:
+            try:
+                connection, _ = self.listener.accept()
+            except OSError:
+                return
+            with connection:
+                data = b""
+                while b"\r\n\r\n" not in data:
+                    data += connection.recv(65536)
+                head, body = data.split(b"\r\n\r\n", 1)
+                length = int(next(line.split(b":")[1] for line in head.split(b"\r\n")
+                                  if line.lower().startswith(b"content-length")))
+                while len(body) < length:
+                    body += connection.recv(65536)
+                self.requests += 1
+                if self.answer:
+                    reply = json_numpy.dumps(np.zeros(7)).encode()
+                    connection.sendall(b"HTTP/1.1 200 OK\r\nContent-Type: application/json\r\nContent-Length: "
+                                       + str(len(reply)).encode() + b"\r\n\r\n" + reply)
+                    time.sleep(0.05)  # the reply is read; then the idle keep-alive connection is closed
+
+    def close(self):
+        self.listener.close()
+
+
+def test_rest_query_that_was_sent_is_never_sent_again():
+    server = CountingHttpServer(answer=False)
+    try:
+        client = JsonNumpyRestClient(server.url, FAST)
+        with pytest.raises(PolicyServerUnreachable, match="after the query was sent \\(not sent again"):
+            client.query({"x": np.zeros(3)})
+        time.sleep(0.1)
+        assert server.requests == 1
+    finally:
+        server.close()
+
+
+def test_rest_stale_keep_alive_is_reopened_before_sending():
+    server = CountingHttpServer(answer=True)
+    try:
+        client = JsonNumpyRestClient(server.url, FAST)
+        client.query({"x": np.zeros(3)})
+        time.sleep(0.2)  # the server has closed the idle connection
+        assert client.query({"x": np.zeros(3)}).shape == (7,)
+        assert server.requests == 2  # one per query: the stale connection was noticed before sending
+    finally:
+        server.close()
+
+
 def test_url_errors_name_the_option():
     with pytest.raises(ValueError, match="option url='ws://h:1': expected http://HOST:PORT"):
         JsonNumpyRestClient("ws://h:1")
@@ -239,6 +313,25 @@ def test_adapters_check_the_server_metadata(tmp_path):
         rdt.close()
     finally:
         aloha.stop()
+    unnormalising = WebsocketPolicyServer(echo_model, {"model_family": "octo", "normalized_actions": False}).start()
+    try:
+        octo = OctoPolicy(url=unnormalising.url, statistics=statistics)
+        with pytest.raises(PolicyServerError, match="answers un-normalised actions \\(normalized_actions false"):
+            octo.reset("cut", {})
+        octo.close()
+    finally:
+        unnormalising.stop()
+    short = WebsocketPolicyServer(echo_model, {"model_family": "rdt", "action_horizon": 32}).start()
+    try:
+        rdt = RDTPolicy(url=short.url, statistics=statistics, execute_steps=48)
+        with pytest.raises(PolicyServerError, match="execute_steps=48 exceeds the action_horizon 32 .*<=32"):
+            rdt.reset("cut", {})
+        rdt.close()
+        rdt = RDTPolicy(url=short.url, statistics=statistics, execute_steps=32)
+        rdt.reset("cut", {})  # within the server's chunk: accepted
+        rdt.close()
+    finally:
+        short.stop()
 
 
 # --- adapters over the wire, on a synthetic observation -----------------------------------------------
@@ -321,6 +414,41 @@ def test_rdt_state_layout_and_pose_target_over_the_wire(tmp_path):
     assert mode == "pd_ee_pose_quat"
     np.testing.assert_allclose(target[:3], [0.0, -0.05, 0.25], atol=1e-6)
     np.testing.assert_allclose(target[3:], TCP_QUATERNION, atol=1e-6)  # the pose it was sent comes back
+
+
+def test_rdt_images_are_jpeg_round_tripped_and_t_minus_1_is_the_previous_step():
+    from culinarycut_policies.images import jpeg_roundtrip, pad_square_resize
+    from culinarycut_policies.rdt import RDTPolicy
+    requests = []
+
+    def model(request):
+        requests.append(request)
+        return {"actions": np.repeat(np.asarray(request["state"], dtype=np.float32), 64, axis=1)}
+
+    server = WebsocketPolicyServer(model, {"model_family": "rdt", "action_horizon": 64}).start()
+    try:
+        with tempfile.TemporaryDirectory() as folder:
+            statistics = policy_support.write_statistics(Path(folder))
+            policy = RDTPolicy(url=server.url, statistics=statistics, execute_steps=2)
+        policy.reset("cut", {})
+        frames = [observation(seed) for seed in range(4)]
+        for frame in frames:
+            policy.act(frame)
+        policy.close()
+    finally:
+        server.stop()
+
+    def expected(step, camera):  # agilex_inference.py's jpeg_mapping, then expand2square and the 384 resize
+        return pad_square_resize(jpeg_roundtrip(frames[step]["sensor_data"][camera]["rgb"]), 384)
+
+    assert len(requests) == 2  # steps 0 and 2; step 1 only keeps its raw frames
+    first, second = requests[0]["images"], requests[1]["images"]
+    assert first[:3] == [None, None, None] and first[5] is None and second[2] is None and second[5] is None
+    for got, (step, camera) in ((first[3], (0, "front")), (first[4], (0, "wrist")), (second[0], (1, "front")),
+                                (second[1], (1, "wrist")), (second[3], (2, "front")), (second[4], (2, "wrist"))):
+        np.testing.assert_array_equal(got, expected(step, camera))
+    without_jpeg = pad_square_resize(frames[2]["sensor_data"]["front"]["rgb"], 384)
+    assert np.abs(second[3].astype(int) - without_jpeg).max() > 8  # the round trip changes noisy frames
 
 
 def test_rest_reopens_a_keep_alive_connection_the_server_closed():

@@ -6,7 +6,9 @@ import time
 
 import pytest
 
+from culinarycut import Client
 from culinarycut.errors import InvalidArgument
+from culinarycut.launch import ServerProcess, server_binary
 
 EFFECTS = {"mpm": True, "damage": True, "friction": True, "topology": True, "force_sensing": True}
 
@@ -43,3 +45,20 @@ def test_a_nan_camera_quaternion_is_refused_naming_the_field(client):
     scene = {"cameras": [{"name": "c", "pose": {"position": [0.5, 0.0, 1.0], "quaternion": ["NaN", 1, 0, 0]}}]}
     with pytest.raises(InvalidArgument, match=r"scene\.cameras\[0\]\.pose\.quaternion"):
         client.create_session(scene)
+
+
+def peak_rss_mb(pid: int) -> float:
+    """The process's peak resident memory (VmHWM), MB."""
+    with open(f"/proc/{pid}/status") as status:
+        for line in status:
+            if line.startswith("VmHWM:"):
+                return int(line.split()[1]) / 1024.0
+    raise AssertionError("no VmHWM in /proc/PID/status")
+
+
+def test_a_huge_melon_is_refused_without_taking_memory():
+    # A server of its own, so its peak memory is this request's and the start's alone.
+    with ServerProcess(server_binary(), max_sessions=1) as server, Client(server.address) as client:
+        with pytest.raises(InvalidArgument, match="particles"):
+            client.create_session(food_scene({"food": "melon", "scale": 3}, quality="fine"))
+        assert peak_rss_mb(server.proc.pid) < 200.0

@@ -1,4 +1,4 @@
-"""Server-level behaviour over the wire: health service, scene features not built yet, bad flags."""
+"""Server-level behaviour over the wire: health service, the resolved scene, bad flags."""
 from __future__ import annotations
 
 import subprocess
@@ -7,7 +7,6 @@ import grpc
 import pytest
 
 from culinarycut import Client
-from culinarycut.errors import Unimplemented
 from culinarycut.launch import server_binary
 
 SERVING = b"\x08\x01"  # grpc.health.v1.HealthCheckResponse{status: SERVING}
@@ -24,14 +23,6 @@ def health_check(address: str, service: str) -> bytes:
 @pytest.mark.parametrize("service", ["", "culinarycut.v1.Simulator"])
 def test_health_service_reports_serving(address, service):
     assert health_check(address, service) == SERVING
-
-
-@pytest.mark.parametrize("scene, field", [
-    ({"effects": {"safety_limiter": True}}, "scene.effects.safety_limiter"),
-])
-def test_scene_features_not_built_yet_are_refused_not_dropped(client, scene, field):
-    with pytest.raises(Unimplemented, match=field):
-        client.create_session(scene)
 
 
 def test_resolved_scene_echoes_every_setting(client):

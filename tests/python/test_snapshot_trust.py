@@ -48,7 +48,7 @@ def array_offset(engine: bytes, index: int, item_sizes: list[int]) -> int:
 # Item sizes of the particle arrays in order: 3 positions, 3 velocities, 3 rest positions, 9 F, 9 C, mass, volume,
 # plastic strain, damage, piece, blade side, cut sides, material, object.
 ITEM_SIZES = [4] * 3 + [4] * 3 + [4] * 3 + [4] * 9 + [4] * 9 + [4, 4, 4, 4, 4, 1, 4, 2, 2]
-CUT_SIDES, MATERIAL, OBJECT, POSITION_Z, REST_Z, MASS = 33, 34, 35, 2, 8, 27
+CUT_SIDES, MATERIAL, OBJECT, POSITION_Z, VELOCITY_X, REST_Z, MASS = 33, 34, 35, 2, 3, 8, 27
 
 
 def patched(engine: bytes, array: int, fmt: str, value) -> bytes:
@@ -106,6 +106,8 @@ def test_snapshots_move_between_servers_only_with_a_shared_key(client, keyed_ser
     (POSITION_Z, "<f", 1e30, "food.position"),
     (POSITION_Z, "<f", float("nan"), "food.position"),
     (MASS, "<f", -1.0, "food.mass"),
+    (VELOCITY_X, "<f", float("nan"), "food.velocity"),
+    (VELOCITY_X, "<f", 1e6, "food.velocity"),
     (CUT_SIDES, "<I", 0b10, "food.cut_sides"),
     (REST_Z, "<f", float("inf"), "food.rest_position"),
 ])

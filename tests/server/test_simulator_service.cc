@@ -21,6 +21,7 @@ server::ServerOptions TestOptions(std::uint32_t max_sessions = 8) {
   options.telemetry_endpoint = "";
   options.max_sessions = max_sessions;
   options.idle_timeout_s = 60;
+  options.safety_model_path = CULINARYCUT_TEST_FORCE_MODEL;  // a hand-written test asset, not the fitted one
   return options;
 }
 
@@ -187,7 +188,8 @@ TEST_CASE("bad input gets a clear status and the server keeps serving", "[server
   CHECK_THAT(MessageOf([&] { client.CreateSession(food_scene); }), Catch::Contains("effects.mpm"));
   v1::SceneSpec limiter_scene;
   limiter_scene.mutable_effects()->set_safety_limiter(true);
-  CHECK(CodeOf([&] { client.CreateSession(limiter_scene); }) == grpc::StatusCode::UNIMPLEMENTED);
+  CHECK(CodeOf([&] { client.CreateSession(limiter_scene); }) == grpc::StatusCode::INVALID_ARGUMENT);
+  CHECK_THAT(MessageOf([&] { client.CreateSession(limiter_scene); }), Catch::Contains("effects.safety_limiter needs food"));
   still_serving();
 }
 

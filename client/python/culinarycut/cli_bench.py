@@ -8,8 +8,12 @@ from pathlib import Path
 from culinarycut.bench.suite import SuiteError, available_suites, load_suite
 
 EXIT_USAGE = 2       # unknown suite, task field or policy; bad options
-EXIT_RUN_FAILED = 1  # servers down, run folder of another run, servers lost mid-run
+EXIT_RUN_FAILED = 1  # servers down, run folder of another run, servers lost or mixed mid-run, a failed task
 EXIT_INTERRUPTED = 130
+
+
+class UsageError(ValueError):
+    """A bad command-line value (the message names it)."""
 
 
 def _policy_options(pairs: list[str]) -> dict:
@@ -18,7 +22,7 @@ def _policy_options(pairs: list[str]) -> dict:
     for pair in pairs:
         key, sep, value = pair.partition("=")
         if not sep or not key:
-            raise ValueError(f"--policy-option {pair!r}: use key=value")
+            raise UsageError(f"--policy-option {pair!r}: use key=value")
         try:
             options[key] = json.loads(value)
         except json.JSONDecodeError:
@@ -43,10 +47,9 @@ def cmd_show(args) -> int:
 
 
 def cmd_run(args) -> int:
-    from culinarycut.bench.runner import RunConfig, RunError, command_line, run_suite
+    from culinarycut.bench.runner import BadRunInput, RunConfig, RunError, command_line, run_suite
     from culinarycut.bench.store import ResultStore
     from culinarycut.bench.tables import results_text
-    from culinarycut.policies.registry import UnknownPolicy
     suite = load_suite(args.suite)
     if args.trials:
         suite = suite.with_trials(args.trials)
@@ -60,11 +63,12 @@ def cmd_run(args) -> int:
     out = Path(args.out or f"runs/{suite.name}-{policy.replace(':', '-')}")
     config = RunConfig(suite=suite, servers=args.server, out=out, policy=policy, policy_options=options,
                        workers=args.workers, scheduler=args.scheduler, record_failures=args.record_failures,
-                       allow_mixed_versions=args.allow_mixed_versions, act_timeout_s=args.act_timeout,
-                       progress=not args.no_progress, command_line=command_line(args.argv))
+                       allow_mixed_versions=args.allow_mixed_versions, retry_errors=args.retry_errors,
+                       act_timeout_s=args.act_timeout, progress=not args.no_progress,
+                       command_line=command_line(args.argv))
     try:
         summary = run_suite(config)
-    except (UnknownPolicy, ValueError) as err:
+    except BadRunInput as err:  # only the run's input: a ValueError from inside a run is no usage error
         print(f"error: {err}", file=sys.stderr)
         return EXIT_USAGE
     except RunError as err:
@@ -73,7 +77,9 @@ def cmd_run(args) -> int:
     with ResultStore(out) as store:
         rows = store.episodes()
     print(results_text(rows, f"{suite.name} with {policy}: {len(rows)} of {summary.episodes} episodes in {out}"))
-    print(f"this run: {summary.ran} episodes in {summary.wall_s:.1f} s ({summary.already_done} were already stored)")
+    retried = f", {summary.retried} stored errors run again" if summary.retried else ""
+    print(f"this run: {summary.ran} episodes in {summary.wall_s:.1f} s ({summary.already_done} were already stored"
+          f"{retried})")
     if summary.interrupted:
         return EXIT_INTERRUPTED
     return 0
@@ -122,6 +128,9 @@ def register(sub) -> None:
     run.add_argument("--record-failures", action="store_true", help="keep a short video of each failed episode")
     run.add_argument("--allow-mixed-versions", action="store_true",
                      help="let servers of different versions (or builds) add to one run")
+    run.add_argument("--retry-errors", action="store_true",
+                     help="also rerun the episodes stored with outcome error (server_error, e.g. a deadline or "
+                          "RESOURCE_EXHAUSTED, or policy_error), replacing their rows")
     run.add_argument("--act-timeout", type=float, default=60.0,
                      help="s a policy may take for one action before the episode is a policy_error")
     run.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -155,10 +164,7 @@ def run_command(args) -> int:
             return EXIT_USAGE
     try:
         return args.bench_func(args)
-    except SuiteError as err:
-        print(f"error: {err}", file=sys.stderr)
-        return EXIT_USAGE
-    except ValueError as err:  # bad --policy-option
+    except (SuiteError, UsageError) as err:  # an unknown suite or task pattern, a bad --policy-option
         print(f"error: {err}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:

@@ -63,8 +63,12 @@ def _servers(args):
 
 def cmd_generate(args) -> int:
     from culinarycut.bench.runner import RunError, server_versions
-    from culinarycut.datasets.generate import generate
+    from culinarycut.datasets.generate import RetryPolicy, generate
     config = config_from_args(args)
+    if args.attempts < 1:
+        raise ValueError(f"--attempts: must be at least 1, got {args.attempts}")
+    if args.retry_backoff < 0:
+        raise ValueError(f"--retry-backoff: must be >= 0 s, got {args.retry_backoff}")
     with _servers(args) as servers:
         try:
             versions = server_versions(servers)
@@ -73,9 +77,14 @@ def cmd_generate(args) -> int:
             return EXIT_FAILED
         summary = generate(config, Path(args.out), servers, workers=args.workers, shard_size=args.shard_size,
                            scheduler=args.scheduler, progress=not args.no_progress,
-                           provenance={"servers": {s: list(v) for s, v in versions.items()}})
+                           provenance={"servers": {s: list(v) for s, v in versions.items()}},
+                           retry=RetryPolicy(attempts=args.attempts, backoff_s=args.retry_backoff))
     print(f"{args.out}: {summary.kept} kept of {summary.already_done + summary.ran} finished jobs "
           f"({summary.jobs} in the dataset); this run: {summary.ran} in {summary.wall_s:.1f} s")
+    if summary.errors:
+        print(f"error: {summary.errors} jobs failed with transient server errors on every try (see "
+              f"{Path(args.out) / 'errors'}); run the same command again to retry them", file=sys.stderr)
+        return EXIT_FAILED
     return 0
 
 
@@ -159,6 +168,10 @@ def register(sub) -> None:
     gen.add_argument("--workers", type=int, default=1, help="Dask workers of the local cluster")
     gen.add_argument("--shard-size", type=int, default=4, help="episodes per shard")
     gen.add_argument("--scheduler", help="a Dask scheduler, tcp://HOST:PORT (default: a local cluster)")
+    gen.add_argument("--attempts", type=int, default=3,
+                     help="tries per server of a job the server fails transiently (default %(default)s)")
+    gen.add_argument("--retry-backoff", type=float, default=2.0, metavar="SECONDS",
+                     help="wait before the second try, doubled before each next one (default %(default)s)")
     gen.add_argument("--no-progress", action="store_true")
     gen.set_defaults(data_func=cmd_generate)
 

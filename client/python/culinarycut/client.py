@@ -117,9 +117,24 @@ def stamp_to_dict(stamp: simulator_pb2.FrameStamp) -> dict[str, Any]:
     return {"frame_id": int(stamp.frame_id), "sim_time": float(stamp.sim_time)}
 
 
-def step_info_to_dict(info: simulator_pb2.StepInfo) -> dict[str, Any]:
-    """What the step did; the same on every run of the same seed and actions (wall times excluded)."""
+def safety_step_to_dict(safety: simulator_pb2.SafetyStepInfo) -> dict[str, Any]:
+    """What the safety limiter did this step (docs/safety.md); v_safe and the force are None when no food was near."""
     return {
+        "acted": bool(safety.acted),                              # the step's joint target was shortened
+        "guard_counts": {name: int(count) for name, count in sorted(safety.guard_counts.items())},
+        "reason": safety.reason,
+        "v_safe_m_s": float(safety.v_safe_m_s) if safety.assessed else None,
+        "predicted_force_n": float(safety.predicted_force_n) if safety.assessed else None,
+        "out_of_range": bool(safety.out_of_range),                # the force model extrapolated
+        "commanded_speed_m_s": float(safety.commanded_speed_m_s),  # into the food, before the limit
+        "target_scale": float(safety.target_scale),
+    }
+
+
+def step_info_to_dict(info: simulator_pb2.StepInfo) -> dict[str, Any]:
+    """What the step did; the same on every run of the same seed and actions (wall times excluded).
+    With the safety limiter on, "safety" holds what it did (safety_step_to_dict)."""
+    fields = {
         "substeps": int(info.substeps),
         "action_clipped": bool(info.action_clipped),
         "ik_converged": bool(info.ik_converged),
@@ -129,6 +144,9 @@ def step_info_to_dict(info: simulator_pb2.StepInfo) -> dict[str, Any]:
         "first_contact": bool(info.first_contact),                 # the contact phase began
         "knife_stalled": bool(info.knife_stalled),                 # in the food, the arm at its effort limit
     }
+    if info.HasField("safety"):
+        fields["safety"] = safety_step_to_dict(info.safety)
+    return fields
 
 
 def step_timings_to_dict(info: simulator_pb2.StepInfo) -> dict[str, float]:
@@ -140,6 +158,7 @@ def step_timings_to_dict(info: simulator_pb2.StepInfo) -> dict[str, float]:
         "mpm_wall_time_ms": float(info.mpm_wall_time_ms),
         "topology_wall_time_ms": float(info.topology_wall_time_ms),
         "render_wall_time_ms": float(info.render_wall_time_ms),    # the scene's cameras
+        "safety_wall_time_ms": float(info.safety_wall_time_ms),    # the safety limiter (0 with it off)
     }
 
 

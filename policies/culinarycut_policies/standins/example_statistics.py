@@ -1,10 +1,13 @@
 """Example normalisation statistics in the dataset_statistics.json layout, for the stand-ins' users (tests,
 the overhead benchmark, trying an adapter without a dataset): two datasets, 7-D delta end-effector
-actions and RDT's 16-D absolute states. Not the statistics of any real data."""
+actions in metres and radians and RDT's 16-D absolute states, each saying its layout and units as
+CulinaryCut's export does. Not the statistics of any real data."""
 from __future__ import annotations
 
 import json
 from pathlib import Path
+
+from culinarycut.datasets.adapter_layouts import DELTA_EE_ACTION, DELTA_EE_PROPRIO, RDT_STATE, RDT_UNITS
 
 DELTA_KEY = "culinarycut_delta"  # 7-D delta end-effector actions (OpenVLA, OpenVLA-OFT, Octo)
 RDT_KEY = "culinarycut_rdt"      # 16-D absolute states (RDT): 7 joints, TCP xyz, 6-D rotation
@@ -30,9 +33,11 @@ def statistics_document() -> dict:
     return {
         DELTA_KEY: {"action": _entry(delta_low, delta_high, [True] * 6 + [False]),
                     "proprio": _entry(proprio_low, proprio_high, [True] * 6 + [False] * 2),
-                    "num_transitions": 1000, "num_trajectories": 10},
+                    "num_transitions": 1000, "num_trajectories": 10, "action_layout": DELTA_EE_ACTION,
+                    "proprio_layout": DELTA_EE_PROPRIO, "action_units": "metres_radians"},
         RDT_KEY: {"action": _entry(rdt_low, rdt_high), "proprio": _entry(rdt_low, rdt_high),
-                  "num_transitions": 1000, "num_trajectories": 10},
+                  "num_transitions": 1000, "num_trajectories": 10, "action_layout": RDT_STATE,
+                  "proprio_layout": RDT_STATE, "action_units": RDT_UNITS},
     }
 
 

@@ -48,11 +48,15 @@ class _Handler(BaseHTTPRequestHandler):
             self._reply(422, '{"detail":[{"type":"dict_type","loc":["body"],"msg":"Input should be a valid dictionary"}]}')
             return
         try:
-            # deploy.py: arrays "double-encoded" as one string under "encoded" are accepted too.
-            if "encoded" in payload:
+            # deploy.py: arrays "double-encoded" as one string under "encoded", the only key; the answer is
+            # then JSONResponse(json_numpy.dumps(action)): the json-numpy text as a JSON string.
+            double_encoded = "encoded" in payload
+            if double_encoded:
+                if len(payload.keys()) != 1:
+                    raise ValueError("Only uses encoded payload!")  # deploy.py's assert
                 payload = json_numpy.loads(payload["encoded"])
-            answer = self.server.model(payload)
-            self._reply(200, json_numpy.dumps(answer))
+            answer = json_numpy.dumps(self.server.model(payload))
+            self._reply(200, json_numpy.dumps(answer) if double_encoded else answer)
         except Exception:  # deploy.py's bare except: log, answer "error" with 200
             log.error(traceback.format_exc())
             self.server.errors += 1

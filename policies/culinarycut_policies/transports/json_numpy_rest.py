@@ -1,14 +1,20 @@
 """OpenVLA's REST protocol (vla-scripts/deploy.py in openvla and openvla-oft): `POST /act` with a JSON body
 whose numpy arrays are json-numpy objects ({"__numpy__": base64, "dtype", "shape"}); the reply is the
-action (or OFT's list of actions) in the same encoding. On any failure upstream's server answers the JSON
-string "error" with HTTP 200, and logs the traceback on its side: we turn that into an error here.
+action (or OFT's list of actions) in the same encoding; a request in deploy.py's "double-encoded" form
+({"encoded": json-numpy text}) is answered with the json-numpy text as a JSON string, which is decoded
+once more. On any failure upstream's server answers the JSON string "error" with HTTP 200, and logs the
+traceback on its side: we turn that into an error here.
 
-One keep-alive HTTP/1.1 connection per policy; a connection that broke between queries is opened again
-(the route is stateless), with the retries of `Timeouts`.
+One keep-alive HTTP/1.1 connection per policy. A query is sent at most once: a connection the server
+closed while idle is noticed before sending (as urllib3's is_connection_dropped: an idle keep-alive
+socket that is readable was closed) and opened again, with the retries of `Timeouts`, and so is one that
+fails while the request is being written; once the request's bytes are all sent, a broken connection
+ends the query as PolicyServerUnreachable (the server may have acted on it).
 """
 from __future__ import annotations
 
 import http.client
+import select
 import socket
 import time
 from typing import Any
@@ -19,8 +25,8 @@ import json_numpy
 from culinarycut_policies.transports.faults import (LatencyLog, PolicyServerError, PolicyServerUnreachable,
                                                     Timeouts, with_connection_retries)
 
-# A keep-alive connection the server closed since the last query fails with one of these on reuse.
-_STALE = (http.client.RemoteDisconnected, BrokenPipeError, ConnectionResetError, http.client.CannotSendRequest)
+# Writing the request to a connection the server has closed fails with one of these: nothing was received.
+_NOT_SENT = (BrokenPipeError, ConnectionResetError, http.client.CannotSendRequest)
 
 
 class JsonNumpyRestClient:
@@ -55,11 +61,13 @@ class JsonNumpyRestClient:
         """The decoded reply to one observation; PolicyServerError for "error" or a non-200 answer."""
         started = time.perf_counter()
         body = json_numpy.dumps(payload).encode()
-        status, reply = self._post_once_more_if_stale(body)
+        status, reply = self._post_once(body)
         if status != 200:
             raise PolicyServerError(f"OpenVLA server {self.url} answered HTTP {status}: {reply[:300]!r}")
         try:
             decoded = json_numpy.loads(reply)
+            if isinstance(decoded, str) and decoded != "error":
+                decoded = json_numpy.loads(decoded)  # deploy.py's double-encoded answer
         except ValueError as err:
             raise PolicyServerError(f"OpenVLA server {self.url} answered something that is not JSON ({err}): "
                                     f"{reply[:200]!r}") from None
@@ -70,28 +78,39 @@ class JsonNumpyRestClient:
         self.latency.record(started)
         return decoded
 
-    def _post_once_more_if_stale(self, body: bytes) -> tuple[int, bytes]:
-        """A keep-alive connection the server closed is opened again (with the connection retries) and the
-        request sent once more: the route is stateless. A timeout is never retried."""
+    def _dropped(self) -> bool:
+        """An idle keep-alive connection has nothing to read; readable means the server closed it."""
+        sock = self._connection.sock if self._connection is not None else None
+        if sock is None:
+            return True
+        return bool(select.select([sock], [], [], 0)[0])
+
+    def _post_once(self, body: bytes) -> tuple[int, bytes]:
+        """Sends the request once; a connection found closed before or while writing it is opened again."""
         for attempt in range(2):
-            if self._connection is None:
+            if self._connection is None or self._dropped():
+                self.close()
                 self.connect()
             try:
-                return self._post(body)
-            except _STALE as err:
+                self._connection.request("POST", self.path, body=body, headers={"Content-Type": "application/json"})
+                break
+            except _NOT_SENT as err:
                 self.close()
                 if attempt:
-                    raise PolicyServerUnreachable(f"OpenVLA server {self.url} dropped the connection: {err!r}") from None
+                    raise PolicyServerUnreachable(f"OpenVLA server {self.url} dropped the connection before the "
+                                                  f"query was sent: {err!r}") from None
             except TimeoutError:
                 self.close()
-                raise TimeoutError(f"OpenVLA server {self.url} did not answer within {self.timeouts.query_s:g} s "
-                                   "(option query_timeout_s)") from None
-            except ConnectionError as err:
-                self.close()
-                raise PolicyServerUnreachable(f"OpenVLA server {self.url}: {err!r}") from None
-        raise AssertionError("unreachable")
-
-    def _post(self, body: bytes) -> tuple[int, bytes]:
-        self._connection.request("POST", self.path, body=body, headers={"Content-Type": "application/json"})
-        response = self._connection.getresponse()
-        return response.status, response.read()
+                raise TimeoutError(f"OpenVLA server {self.url} did not take the query within "
+                                   f"{self.timeouts.query_s:g} s (option query_timeout_s)") from None
+        try:
+            response = self._connection.getresponse()
+            return response.status, response.read()
+        except TimeoutError:
+            self.close()
+            raise TimeoutError(f"OpenVLA server {self.url} did not answer within {self.timeouts.query_s:g} s "
+                               "(option query_timeout_s)") from None
+        except (http.client.HTTPException, ConnectionError) as err:
+            self.close()
+            raise PolicyServerUnreachable(f"OpenVLA server {self.url} dropped the connection after the query was "
+                                          f"sent (not sent again: the model may have acted on it): {err!r}") from None

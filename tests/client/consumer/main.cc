@@ -1,5 +1,9 @@
 // Drives a real server through the installed C++ client: server info, a session, reset, a step,
-// an observation with the wrist wrench, session stats, close. Exit 0 only if every check holds.
+// an observation with the wrist wrench, session stats, close; then a scene with food, a task and a
+// camera: unpacked RGB, depth and segmentation, the food's pieces and the task score. Exit 0 only if
+// every check holds.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -13,6 +17,49 @@ void Expect(bool ok, const char* what) {
     ++failures;
   }
 }
+
+// What the Python client reads from a cutting scene, read here through the C++ structs.
+void CheckFoodTaskAndCamera(culinarycut::client::Client& client) {
+  culinarycut::v1::SceneSpec scene;
+  scene.set_quality("draft");
+  scene.mutable_effects()->set_mpm(true);
+  scene.mutable_effects()->set_damage(true);
+  scene.mutable_effects()->set_topology(true);
+  scene.mutable_effects()->set_force_sensing(true);
+  scene.add_objects()->set_food("cucumber");
+  scene.mutable_task()->set_instruction("cut the cucumber at the middle");
+  culinarycut::v1::CameraSpec* camera = scene.add_cameras();
+  camera->set_name("front");
+  camera->set_width(64);
+  camera->set_height(48);
+  for (const char* channel : {"rgb", "depth", "segmentation"}) camera->add_channels(channel);
+  auto session = client.CreateSession(scene);
+  const culinarycut::client::Observation start = session->Reset(/*seed=*/0);
+  Expect(start.instruction == "cut the cucumber at the middle", "the observation carries the instruction");
+  Expect(start.food.has_value() && start.food->pieces.size() == 1, "the uncut cucumber is one piece");
+  if (start.food && !start.food->pieces.empty()) {
+    Expect(start.food->pieces[0].volume_m3 > 0.0 && start.food->pieces[0].particles > 0, "the piece has volume");
+  }
+  Expect(start.cameras.size() == 1, "one camera");
+  if (!start.cameras.empty()) {
+    const culinarycut::client::CameraImage& image = start.cameras[0];
+    Expect(image.width == 64 && image.height == 48, "the camera's size");
+    Expect(image.rgb.size() == 64u * 48u * 3u, "raw RGB unpacked to height x width x 3");
+    Expect(image.depth_m.size() == 64u * 48u, "depth unpacked to height x width");
+    Expect(image.segmentation.size() == 64u * 48u, "segmentation unpacked to height x width");
+    const bool depth_sane = std::all_of(image.depth_m.begin(), image.depth_m.end(),
+                                        [](float d) { return std::isfinite(d) && d >= 0.0f && d < 10.0f; });
+    Expect(depth_sane, "depth is finite metres");
+    Expect(std::any_of(image.depth_m.begin(), image.depth_m.end(), [](float d) { return d > 0.0f; }),
+           "the camera sees the scene");
+    Expect(std::any_of(image.rgb.begin(), image.rgb.end(), [](std::uint8_t c) { return c != 0; }), "RGB is not blank");
+    Expect(!start.segmentation_labels.empty(), "segmentation labels come with the image");
+  }
+  const culinarycut::client::StepResult step = session->Step("pd_ee_delta_pose", {0.0, 0.0, 0.0, 0.0, 0.0, 0.0});
+  Expect(step.task_score.has_value() && !step.success && step.reward == 0.0, "an uncut task scores, not done");
+  session->Close();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -41,6 +88,7 @@ int main(int argc, char** argv) {
              "an unknown mode is INVALID_ARGUMENT naming action.control_mode");
     }
     session->Close();
+    CheckFoodTaskAndCamera(client);
   } catch (const std::exception& error) {
     std::fprintf(stderr, "consumer: %s\n", error.what());
     return 1;

@@ -9,6 +9,7 @@ that server, any other is bound to one of the runner's servers by its name.
 from __future__ import annotations
 
 import io
+import logging
 import os
 import zlib
 from dataclasses import dataclass
@@ -49,8 +50,10 @@ def encode_gif(frames) -> bytes:
     from PIL import Image  # Debian's python3-pil (a dependency of matplotlib)
     images = [Image.fromarray(frame) for frame in frames[::2]]
     buffer = io.BytesIO()
+    # Durations as a list: Pillow merges identical frames (a knife held still) and adds up their time,
+    # which with one number it drops when a single frame is left.
     images[0].save(buffer, format="GIF", save_all=True, append_images=images[1:],
-                   duration=int(GIF_FRAME_S * 1000), loop=0)
+                   duration=[int(GIF_FRAME_S * 1000)] * len(images), loop=0)
     return buffer.getvalue()
 
 
@@ -77,6 +80,8 @@ def start_cluster(scheduler: str | None, workers: int):
     from distributed import Client, LocalCluster
     if scheduler:
         return Client(scheduler, timeout="10s"), None
+    # No dashboard, and the scheduler's HTTP routes on a free loopback port: None alone still binds :8787 on
+    # every interface (and warns when it is taken). A failed task is reported by the runner, not logged here.
     cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=False, dashboard_address=None,
-                           silence_logs="error")
+                           scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}, silence_logs=logging.CRITICAL)
     return Client(cluster), cluster

@@ -51,8 +51,9 @@ def load_run(folder: Path) -> Run:
         metadata = store.metadata()
     if not rows:
         raise ReportError(f"{folder} holds no episodes yet")
-    versions = sorted({f"{r['server_version']} ({r['build_id'] or '?'})" for r in rows})
-    label = f"{metadata.get('policy', rows[0]['policy'])} @ {', '.join(versions)}"
+    # A server_error before the server said its version leaves the row without one: it names no build.
+    versions = sorted({f"{r['server_version']} ({r['build_id'] or '?'})" for r in rows if r["server_version"]})
+    label = f"{metadata.get('policy', rows[0]['policy'])} @ {', '.join(versions) or 'unknown server'}"
     return Run(label, folder, metadata, rows, traces)
 
 
@@ -156,7 +157,7 @@ def build_blocks(runs: list[Run]) -> list[Block]:
         [(run.label, run.rows) for run in runs]), name="success_per_food.png"))
     ratio_foods = sorted({r["food"] for run in runs for r in run.rows if r["state"] == "ratio"})
     for food in ratio_foods:
-        if len({r["ratio"] for run in runs for r in run.rows if r["state"] == "ratio" and r["food"] == food}) >= 3:
+        if report_charts.radar_sides([(run.label, run.rows) for run in runs], food):
             blocks.append(Block("image", f"Ratio cuts on {food}", data=report_charts.ratio_radar(
                 [(run.label, run.rows) for run in runs], food), name=f"ratio_radar_{food}.png"))
     if any(r["state"] == "split" for run in runs for r in run.rows):

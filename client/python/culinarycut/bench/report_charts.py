@@ -1,5 +1,5 @@
-"""The report's charts as PNG bytes (matplotlib, headless): success per food, success per ratio (radar)
-and knife force over time, one colour per run."""
+"""The report's charts as PNG bytes (matplotlib, headless): success per food, success per ratio (radar,
+one panel per side) and knife force over time, one colour per run."""
 from __future__ import annotations
 
 import io
@@ -14,6 +14,7 @@ import matplotlib.pyplot as plt  # noqa: E402  (after choosing the headless back
 from culinarycut.bench.tables import success_by  # noqa: E402
 
 COLOURS = ("#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b")
+RADAR_MIN_RATIOS = 3  # fewer spokes make no radar
 
 
 def _png(figure) -> bytes:
@@ -50,22 +51,39 @@ def success_per_food(runs: list[tuple[str, list[dict]]]) -> bytes:
     return _png(figure)
 
 
+def _ratio_rows(runs: list[tuple[str, list[dict]]], food: str) -> list[list[dict]]:
+    return [[r for r in rows if r["state"] == "ratio" and r["food"] == food] for _, rows in runs]
+
+
+def radar_sides(runs: list[tuple[str, list[dict]]], food: str) -> list[str]:
+    """The sides (left, right) whose ratio cuts on `food` have enough distinct ratios for a radar."""
+    chosen = [r for rows in _ratio_rows(runs, food) for r in rows]
+    sides = sorted({r["side"] for r in chosen})
+    return [side for side in sides if len({r["ratio"] for r in chosen if r["side"] == side}) >= RADAR_MIN_RATIOS]
+
+
 def ratio_radar(runs: list[tuple[str, list[dict]]], food: str) -> bytes:
-    """Success per cut ratio (both sides pooled) on one food, as the paper's radar charts."""
-    ratios = sorted({row["ratio"] for _, rows in runs for row in rows if row["state"] == "ratio" and row["food"] == food})
-    angles = [2 * math.pi * i / len(ratios) for i in range(len(ratios))]
-    figure = plt.figure(figsize=(4.2, 4.2))
-    axes = figure.add_subplot(projection="polar")
-    for i, (label, rows) in enumerate(runs):
-        chosen = [r for r in rows if r["state"] == "ratio" and r["food"] == food]
-        by_ratio = {r.key: r.rate for r in success_by(chosen, lambda row: f"{row['ratio']:g}")}
-        values = [100 * by_ratio.get(f"{ratio:g}", 0.0) for ratio in ratios]
-        axes.plot(angles + angles[:1], values + values[:1], color=COLOURS[i % len(COLOURS)], label=label)
-        axes.fill(angles + angles[:1], values + values[:1], color=COLOURS[i % len(COLOURS)], alpha=0.15)
-    axes.set_xticks(angles, [f"{r:g}" for r in ratios])
-    axes.set_ylim(0, 100)
-    axes.set_title(f"{food}: success (%) per ratio", pad=14)
-    axes.legend(fontsize=7, loc="lower left", bbox_to_anchor=(-0.15, -0.15))
+    """Success per cut ratio on one food as the paper's radar charts: one panel per side the ratio is
+    measured from (left, right), since 0.3 from the left and 0.3 from the right are different cuts."""
+    chosen = _ratio_rows(runs, food)
+    sides = radar_sides(runs, food)
+    figure = plt.figure(figsize=(4.2 * len(sides), 4.2))
+    for panel, side in enumerate(sides, start=1):
+        ratios = sorted({r["ratio"] for rows in chosen for r in rows if r["side"] == side})
+        angles = [2 * math.pi * i / len(ratios) for i in range(len(ratios))]
+        axes = figure.add_subplot(1, len(sides), panel, projection="polar")
+        for i, ((label, _), rows) in enumerate(zip(runs, chosen)):
+            by_ratio = {r.key: r.rate for r in success_by([r for r in rows if r["side"] == side],
+                                                          lambda row: f"{row['ratio']:g}")}
+            values = [100 * by_ratio.get(f"{ratio:g}", 0.0) for ratio in ratios]
+            colour = COLOURS[i % len(COLOURS)]
+            axes.plot(angles + angles[:1], values + values[:1], color=colour, label=label)
+            axes.fill(angles + angles[:1], values + values[:1], color=colour, alpha=0.15)
+        axes.set_xticks(angles, [f"{r:g}" for r in ratios])
+        axes.set_ylim(0, 100)
+        axes.set_title(f"{food}, from the {side}: success (%) per ratio", pad=14, fontsize=10)
+        if panel == 1:
+            axes.legend(fontsize=7, loc="lower left", bbox_to_anchor=(-0.15, -0.15))
     return _png(figure)
 
 

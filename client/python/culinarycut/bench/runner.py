@@ -1,11 +1,13 @@
-"""`culinarycut bench run`: every episode of a suite that has no row yet, on one or more servers through
-Dask, each result stored as it ends; a progress bar; Ctrl-C stops cleanly and says how to resume."""
+"""`culinarycut bench run`: every episode of a suite that has no row yet (with --retry-errors, also those
+whose row is an error), on one or more servers through Dask, each result stored as it ends; a progress
+bar; Ctrl-C, a lost server or a failed task stops cleanly and says how to resume."""
 from __future__ import annotations
 
 import json
 import shlex
 import sys
 import time
+import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -16,13 +18,18 @@ from culinarycut.bench.store import ResultStore
 from culinarycut.bench.suite import Suite
 from culinarycut.client import Client
 from culinarycut.errors import CulinaryCutError
-from culinarycut.policies.registry import make_policy
+from culinarycut.policies.registry import UnknownPolicy, make_policy
 
 PREFLIGHT_TIMEOUT_S = 10.0
 
 
 class RunError(RuntimeError):
     """The run cannot start (or go on); the message says why and what to do."""
+
+
+class BadRunInput(ValueError):
+    """The run was asked for something that cannot be: an unknown policy or bad policy options. Raised
+    before anything starts; every other fault of a run is a RunError."""
 
 
 @dataclass
@@ -36,6 +43,7 @@ class RunConfig:
     scheduler: str | None = None
     record_failures: bool = False
     allow_mixed_versions: bool = False
+    retry_errors: bool = False       # rerun the episodes stored with outcome error, replacing their rows
     act_timeout_s: float = 60.0
     progress: bool = True
     command_line: str = ""  # how this run was started, for the resume hint
@@ -46,6 +54,7 @@ class RunSummary:
     episodes: int          # in the suite
     already_done: int      # found in the store at the start
     ran: int               # recorded by this run
+    retried: int           # of those, stored errors run again (--retry-errors)
     successes: int         # of all stored episodes
     wall_s: float
     interrupted: bool = False
@@ -65,13 +74,37 @@ def server_versions(servers: list[str]) -> dict[str, tuple[str, str]]:
     return versions
 
 
-def check_versions(versions: dict[str, tuple[str, str]], store: ResultStore, allow_mixed: bool) -> None:
+def _version_text(version: tuple[str, str]) -> str:
+    return f"{version[0]} (build {version[1] or '?'})"
+
+
+def check_versions(versions: dict[str, tuple[str, str]], store: ResultStore,
+                   allow_mixed: bool) -> set[tuple[str, str]] | None:
+    """The (version, build id) pairs this run may store: the servers' and the stored rows', which must be
+    one unless mixing is allowed (then None: any)."""
     distinct = set(versions.values()) | {tuple(v) for v in store.server_versions()}
-    if len(distinct) > 1 and not allow_mixed:
-        listed = "; ".join(f"{s}: {v} (build {b or '?'})" for s, (v, b) in versions.items())
-        stored = ", ".join(f"{v} (build {b or '?'})" for v, b in store.server_versions()) or "none"
+    if allow_mixed:
+        return None
+    if len(distinct) > 1:
+        listed = "; ".join(f"{s}: {_version_text(v)}" for s, v in versions.items())
+        stored = ", ".join(_version_text(v) for v in store.server_versions()) or "none"
         raise RunError(f"servers of different versions would mix in one run: {listed}; already stored: {stored}. "
                        "Use one build, another --out, or --allow-mixed-versions")
+    return distinct
+
+
+def check_row_version(row: dict, allowed: set[tuple[str, str]] | None, stored: int, resume: str) -> None:
+    """An episode from a server of another version or build than the run's stops the run before it is
+    stored: a worker bound by CULINARYCUT_SERVER to a server the pre-flight check never asked. A row
+    without a version (the server failed before it said) has nothing to compare."""
+    version = (row.get("server_version") or "", row.get("build_id") or "")
+    if allowed is None or not version[0] or version in allowed:
+        return
+    raise RunError(f"episode {row['task']} trial {row['trial']} ran on {row['server']}, "
+                   f"{_version_text(version)}, but this run's servers and rows are "
+                   f"{', '.join(sorted(_version_text(v) for v in allowed))}: a Dask worker bound by "
+                   f"CULINARYCUT_SERVER to another build? It was not stored ({stored} episodes are). Point every "
+                   f"worker at one build and resume with:\n  {resume}\nor pass --allow-mixed-versions")
 
 
 def check_identity(store: ResultStore, config: RunConfig) -> None:
@@ -106,33 +139,57 @@ def _video_name(task: str, trial: int) -> str:
     return "videos/" + task.replace("/", "_") + f"_trial{trial}.gif"
 
 
-def _store_result(store: ResultStore, out: Path, done: WorkerResult) -> bool:
+def _store_result(store: ResultStore, out: Path, done: WorkerResult, retrying: bool) -> bool:
+    """Writes the episode's video (if any) and row; `retrying` replaces the episode's stored error row."""
     row = done.result.row
+    video = out / _video_name(row["task"], row["trial"])
     if done.video_gif:
-        name = _video_name(row["task"], row["trial"])
-        (out / name).parent.mkdir(exist_ok=True)
-        (out / name).write_bytes(done.video_gif)
-        row["video"] = name
-    return store.record(row, done.result.trace)
+        video.parent.mkdir(exist_ok=True)
+        video.write_bytes(done.video_gif)
+        row["video"] = _video_name(row["task"], row["trial"])
+    elif retrying:
+        video.unlink(missing_ok=True)  # the failed attempt's video would not belong to the new row
+    return store.record(row, done.result.trace, replace_error=retrying)
+
+
+def _task_failure(err: Exception, episode: str, stored: int, total: int, resume: str) -> RunError:
+    """A clear RunError for an episode task that failed on its worker (not a recorded episode fault)."""
+    from distributed import KilledWorker
+    where = f"{stored} of {total} episodes are stored; resume with:\n  {resume}"
+    if isinstance(err, AllServersLost):
+        return RunError(f"the servers stopped answering ({err}); start them again. {where}")
+    if isinstance(err, KilledWorker):
+        return RunError(f"{episode}: the Dask workers running it died (out of memory or killed) more often than "
+                        f"the scheduler allows (distributed.scheduler.allowed-failures). {where}")
+    frames = traceback.extract_tb(err.__traceback__)
+    at = f" (at {Path(frames[-1].filename).name} line {frames[-1].lineno}, in {frames[-1].name})" if frames else ""
+    return RunError(f"{episode} failed on its worker: {type(err).__name__}: {err}{at}. {where}")
 
 
 def run_suite(config: RunConfig) -> RunSummary:
-    """Runs what is missing of the suite; raises RunError before any episode when it cannot start."""
+    """Runs what is missing of the suite (and, with retry_errors, what is stored as an error). Raises
+    BadRunInput for an unknown policy or bad options and RunError when the run cannot start or go on
+    (servers down or lost, another run's folder, mixed versions, an episode task that failed)."""
     started = time.perf_counter()
-    make_policy(config.policy, config.policy_options)  # unknown names and bad options fail here
+    try:
+        make_policy(config.policy, config.policy_options)  # unknown names and bad options fail here
+    except (UnknownPolicy, ValueError) as err:
+        raise BadRunInput(str(err)) from None
     versions = server_versions(config.servers)
+    resume = config.command_line or "the same command"
     with ResultStore(config.out) as store:
         check_identity(store, config)
-        check_versions(versions, store, config.allow_mixed_versions)
+        allowed = check_versions(versions, store, config.allow_mixed_versions)
         check_tasks(config.servers[0], config.suite)
         episodes = suite_episodes(config.suite)
-        done_keys = store.done_keys()
+        retry_keys = store.error_keys() if config.retry_errors else set()
+        done_keys = store.done_keys() - retry_keys
         pending = [e for e in episodes if e.key not in done_keys]
         already = len(episodes) - len(pending)
         options = EpisodeOptions(policy=config.policy, policy_options=config.policy_options,
                                  act_timeout_s=config.act_timeout_s, record_video=config.record_failures)
         successes = len(store.episodes("outcome = 'success'"))
-        ran = 0
+        ran = retried = 0
         interrupted = False
         bar = _progress(len(episodes), already, config.progress)
         dask_client = cluster = None
@@ -140,17 +197,21 @@ def run_suite(config: RunConfig) -> RunSummary:
             if pending:
                 dask_client, cluster = start_cluster(config.scheduler, config.workers)
                 from distributed import as_completed
-                futures = [dask_client.submit(run_on_worker, spec, config.servers, options, retries=2, pure=False,
-                                              key=f"episode-{spec.task.name}-{spec.trial}")
-                           for spec in pending]
+                futures = {dask_client.submit(run_on_worker, spec, config.servers, options, retries=2, pure=False,
+                                              key=f"episode-{spec.task.name}-{spec.trial}"): spec
+                           for spec in pending}
                 for future in as_completed(futures):
                     try:
                         done = future.result()
-                    except AllServersLost as err:
-                        raise RunError(f"the servers stopped answering ({err}); start them again and rerun "
-                                       "the same command to resume") from None
-                    if _store_result(store, config.out, done):
+                    except Exception as err:  # AllServersLost, KilledWorker, a bug in a policy or the harness
+                        spec = futures[future]
+                        raise _task_failure(err, f"episode {spec.task.name} trial {spec.trial}",
+                                            len(store.done_keys()), len(episodes), resume) from None
+                    check_row_version(done.result.row, allowed, len(store.done_keys()), resume)
+                    retrying = (done.result.row["task"], done.result.row["trial"]) in retry_keys
+                    if _store_result(store, config.out, done, retrying):
                         ran += 1
+                        retried += retrying
                         successes += done.result.row["outcome"] == "success"
                     bar.update(1)
                     stored = already + ran
@@ -164,10 +225,10 @@ def run_suite(config: RunConfig) -> RunSummary:
             if cluster is not None:
                 cluster.close()
         if interrupted:
-            stored = already + ran
+            stored = len(store.done_keys())
             print(f"\nstopped: {stored} of {len(episodes)} episodes are stored in {config.out}; "
-                  f"resume with:\n  {config.command_line or 'the same command'}", file=sys.stderr)
-    return RunSummary(episodes=len(episodes), already_done=already, ran=ran, successes=successes,
+                  f"resume with:\n  {resume}", file=sys.stderr)
+    return RunSummary(episodes=len(episodes), already_done=already, ran=ran, retried=retried, successes=successes,
                       wall_s=time.perf_counter() - started, interrupted=interrupted)
 
 

@@ -2,8 +2,9 @@
 
 Each episode is written in its own transaction when it ends (WAL journal, synchronous=FULL), so a
 runner killed at any moment, kill -9 included, leaves every finished episode stored and none half
-written; started again on the same folder it runs only the episodes without a row. The primary key
-(task, trial) means an episode is recorded once, whatever retries happened on the way.
+written; started again on the same folder it runs only the episodes without a row (and, asked to,
+those whose row is an error). The primary key (task, trial) means an episode is recorded once,
+whatever retries happened on the way.
 """
 from __future__ import annotations
 
@@ -126,11 +127,19 @@ class ResultStore(DurableDatabase):
     def done_keys(self) -> set[tuple[str, int]]:
         return set(self.db.execute("SELECT task, trial FROM episodes").fetchall())
 
-    def server_versions(self) -> set[tuple[str, str]]:
-        return set(self.db.execute("SELECT DISTINCT server_version, build_id FROM episodes").fetchall())
+    def error_keys(self) -> set[tuple[str, int]]:
+        """The episodes stored with outcome error (server_error, policy_error): what --retry-errors reruns."""
+        return set(self.db.execute("SELECT task, trial FROM episodes WHERE outcome = 'error'").fetchall())
 
-    def record(self, row: dict[str, Any], trace: dict | None = None) -> bool:
-        """Writes one episode (and its trace) atomically; False if it was already there."""
+    def server_versions(self) -> set[tuple[str, str]]:
+        """(version, build id) of the servers the rows ran on; rows without a version (a server_error before
+        the server said its version) name none."""
+        return set(self.db.execute("SELECT DISTINCT server_version, COALESCE(build_id, '') FROM episodes "
+                                   "WHERE server_version IS NOT NULL AND server_version != ''").fetchall())
+
+    def record(self, row: dict[str, Any], trace: dict | None = None, replace_error: bool = False) -> bool:
+        """Writes one episode (and its trace) atomically; False if it was already there. With replace_error
+        a stored row of the same episode is replaced when, and only when, its outcome is error."""
         unknown = set(row) - set(COLUMN_NAMES)
         if unknown:
             raise StoreError(f"unknown result columns {sorted(unknown)}")
@@ -139,6 +148,9 @@ class ResultStore(DurableDatabase):
         placeholders = ", ".join("?" for _ in names)
         with self.db:
             self.db.execute("BEGIN IMMEDIATE")
+            if replace_error:
+                self.db.execute("DELETE FROM episodes WHERE task = ? AND trial = ? AND outcome = 'error'",
+                                (row["task"], row["trial"]))
             cursor = self.db.execute(f"INSERT OR IGNORE INTO episodes ({', '.join(names)}) VALUES ({placeholders})",
                                      [row[n] for n in names])
             if cursor.rowcount and trace is not None:

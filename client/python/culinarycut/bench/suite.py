@@ -71,7 +71,6 @@ class Suite:
     policy: dict
     randomize: dict
     cameras: tuple
-    report: dict
 
     def task(self, name: str) -> Task:
         for task in self.tasks:
@@ -134,10 +133,14 @@ def _where(error: jsonschema.ValidationError) -> str:
 
 
 def _message(error: jsonschema.ValidationError) -> str:
-    """The deepest sub-error of a oneOf (a value or a list of values), which names the bad element."""
+    """The deepest sub-error of a oneOf (a value or a list of values), which names the bad element; for an
+    unknown field, the fields that may stand there."""
     while error.context:
         error = max(error.context, key=lambda e: (len(e.absolute_path), e.validator == "enum"))
-    return f"{_where(error)}: {error.message}"
+    message = f"{_where(error)}: {error.message}"
+    if error.validator == "additionalProperties" and error.validator_value is False:
+        message += f"; valid fields: {', '.join(error.schema.get('properties', {}))}"
+    return message
 
 
 def validate(document: dict) -> None:
@@ -221,7 +224,7 @@ def load_suite(name_or_path: str) -> Suite:
                  digest=hashlib.sha256(raw).hexdigest(), tasks=tuple(tasks),
                  policy={**DEFAULT_POLICY, **document.get("policy", {})},
                  randomize={**DEFAULT_RANDOMIZE, **document.get("randomize", {})},
-                 cameras=tuple(document.get("cameras", [])), report=dict(document.get("report", {})))
+                 cameras=tuple(document.get("cameras", [])))
 
 
 def episode_seed(suite: str, task: str, trial: int) -> int:

@@ -87,6 +87,10 @@ def write_card(root: Path, out: Path | None = None) -> Path:
     lines += [f"| {task} | {n} | {k} |" for task, (n, k) in sorted(per_task.items())]
     lines += ["", "## Success filter", ""]
     lines += [f"- {reason}: {count}" for reason, count in reasons.most_common()] or ["- every episode succeeded"]
+    pending = sorted((root / "errors").glob("*.json")) if (root / "errors").is_dir() else []
+    if pending:
+        lines += ["", f"{len(pending)} jobs failed with transient server errors and are not counted above; "
+                  "running `culinarycut data generate` again retries them."]
     lines += ["", "## Contents and formats", "",
               f"Every step: {', '.join(config['cameras'])} RGB ({config['image_size']} px), joint positions and "
               "velocities, TCP pose and velocity, wrist force/torque, the action in "

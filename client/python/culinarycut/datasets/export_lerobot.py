@@ -4,7 +4,10 @@ per episode and camera under videos/chunk-XXX/observation.images.<camera>/.
 
 Vectors are fixed-size float32 lists and scalars plain columns, as Hugging Face `datasets` writes
 them (its feature description goes into the Parquet schema metadata under b"huggingface").
-Each episode lists all its instructions as tasks; its frames carry the first one's task_index.
+Each episode lists all its instructions as tasks, and its frames take them in turn (frame i carries
+instruction i mod n), so a policy trained on the frames (openpi reads the prompt from each frame's
+task_index) sees every phrasing of every episode, all through the motion. contact_phase is one integer
+per frame; info.json's "contact_phases" lists the names of its codes.
 """
 from __future__ import annotations
 
@@ -49,7 +52,7 @@ def _image_stats(frames: np.ndarray) -> dict:
             "std": shape(pixels.std(0)), "count": [len(frames)]}
 
 
-def _frame_columns(steps: dict, episode_index: int, first_index: int, task_index: int, fps: float) -> dict:
+def _frame_columns(steps: dict, episode_index: int, first_index: int, task_indices: list[int], fps: float) -> dict:
     length = len(steps["actions"])
     return {
         "observation.state": proprio(steps),
@@ -64,7 +67,7 @@ def _frame_columns(steps: dict, episode_index: int, first_index: int, task_index
         "frame_index": np.arange(length, dtype=np.int64),
         "episode_index": np.full(length, episode_index, dtype=np.int64),
         "index": np.arange(first_index, first_index + length, dtype=np.int64),
-        "task_index": np.full(length, task_index, dtype=np.int64),
+        "task_index": np.resize(np.asarray(task_indices, dtype=np.int64), length),  # in turn, frame by frame
     }
 
 
@@ -78,7 +81,7 @@ def _features(columns: dict, steps: dict, control_mode: str, image_size: tuple, 
     features["observation.tcp_pose"]["names"] = ["x_m", "y_m", "z_m", "qw", "qx", "qy", "qz"]
     features["observation.wrist_wrench"]["names"] = ["fx_n", "fy_n", "fz_n", "tx_nm", "ty_nm", "tz_nm"]
     features["action"]["names"] = action_names(control_mode, columns["action"].shape[1])
-    features["contact_phase"]["names"] = list(PHASES)
+    features["contact_phase"]["names"] = ["contact_phase"]  # one code per frame; info["contact_phases"] names them
     height, width = image_size
     for camera in camera_names(steps):
         features[f"observation.images.{camera}"] = {
@@ -125,7 +128,7 @@ def export_lerobot(root: Path, out: Path, robot_type: str = "panda") -> Path:
         fps = float(meta["resolved_scene"]["robot"]["control_frequency_hz"])
         for instruction in meta["instructions"]:
             tasks.setdefault(instruction, len(tasks))
-        columns = _frame_columns(steps, index, total_frames, tasks[meta["instructions"][0]], fps)
+        columns = _frame_columns(steps, index, total_frames, [tasks[t] for t in meta["instructions"]], fps)
         chunk = index // CHUNKS_SIZE
         _write_parquet(out / DATA_PATH.format(episode_chunk=chunk, episode_index=index), columns)
         episode_stats = {name: _vector_stats(values) for name, values in columns.items()}
@@ -150,7 +153,7 @@ def export_lerobot(root: Path, out: Path, robot_type: str = "panda") -> Path:
             "total_frames": total_frames, "total_tasks": len(tasks), "total_videos": len(episodes) * cameras,
             "total_chunks": (len(episodes) - 1) // CHUNKS_SIZE + 1, "chunks_size": CHUNKS_SIZE, "fps": fps,
             "splits": {"train": f"0:{len(episodes)}"}, "data_path": DATA_PATH, "video_path": VIDEO_PATH,
-            "features": info_features}
+            "features": info_features, "contact_phases": list(PHASES)}
     (out / "meta" / "info.json").write_text(json.dumps(info, indent=4))
     _write_jsonl(out / "meta" / "episodes.jsonl", episodes)
     _write_jsonl(out / "meta" / "tasks.jsonl", [{"task_index": i, "task": t} for t, i in tasks.items()])

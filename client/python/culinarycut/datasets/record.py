@@ -62,7 +62,7 @@ def record_episode(job: EpisodeJob, config: DatasetConfig, client: Client) -> Re
             if actor.finished:
                 reason = "actor_finished"
                 break
-            action, phase = actor.act()
+            action, phase = actor.act(observation, info)
             for name, value in _observation_arrays(observation).items():
                 columns.setdefault(name, []).append(value)
             contact = bool(info.get("food", {}).get("knife_contact", False))

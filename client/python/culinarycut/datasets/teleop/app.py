@@ -7,6 +7,7 @@
     POST /api/teleop/step      {"action": [6 values in -1..1]}    one pd_ee_delta_pose step
     POST /api/teleop/record    {"on": true|false}                 start / stop (stop saves the file)
     POST /api/teleop/rate      {"rating": "good"|"bad"}           rates the last saved demonstration
+    POST /api/teleop/reset     {}                                 the scene back to its seed, recording off
 The views read the server with Observe only, so watching never changes a session.
 """
 from __future__ import annotations
@@ -110,6 +111,11 @@ class RecordHandler(_Base):
             raise tornado.web.HTTPError(409, str(err)) from None
 
 
+class ResetHandler(_Base):
+    async def post(self):
+        self.finish(await self.blocking(self.teleop.reset))
+
+
 class RateHandler(_Base):
     async def post(self):
         try:
@@ -126,5 +132,5 @@ def make_app(client: Client, teleop: TeleopSession) -> tornado.web.Application:
         (rf"/api/sessions/{session}/view", ViewHandler),
         (rf"/api/sessions/{session}/([A-Za-z0-9_-]+)\.jpg", CameraHandler),
         (r"/api/teleop/step", StepHandler), (r"/api/teleop/record", RecordHandler),
-        (r"/api/teleop/rate", RateHandler),
+        (r"/api/teleop/rate", RateHandler), (r"/api/teleop/reset", ResetHandler),
     ], client=client, teleop=teleop)

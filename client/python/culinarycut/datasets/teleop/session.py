@@ -1,5 +1,6 @@
 """One teleoperated session: the scene reset from its seed, driven by end-effector deltas, recorded as a
-Demonstration (object-relative knife poses) between start and stop, saved with the person's rating."""
+Demonstration (object-relative knife poses) between start and stop, saved with the person's rating;
+reset puts the scene back to its seed, so every recording can start from the same state."""
 from __future__ import annotations
 
 import threading
@@ -15,6 +16,7 @@ from culinarycut.env import CulinaryCutEnv
 
 CONTROL_MODE = "pd_ee_delta_pose"
 RATINGS = ("good", "bad")
+MIN_SAMPLES = 2  # what load_demonstration accepts
 
 
 class TeleopSession:
@@ -44,17 +46,29 @@ class TeleopSession:
                 self.recorder.add(self.observation, self.info)
         return self.state()
 
+    def reset(self) -> dict:
+        """The scene back to its seed (food whole, robot at home); a recording in progress is dropped."""
+        with self.lock:
+            self.observation, self.info = self.env.reset(seed=self.seed)
+            self.recorder = None
+            self.steps = 0
+        return self.state()
+
     def start_recording(self) -> None:
         with self.lock:
             self.recorder = DemoRecorder(self.resolved, self.seed, self.spec, self.info, CONTROL_MODE)
             self.recorder.add(self.observation, self.info)
 
     def stop_recording(self) -> Path:
-        """Saves the demonstration (unrated) and returns its file."""
+        """Saves the demonstration (unrated) and returns its file. A recording of fewer than MIN_SAMPLES
+        samples (no step driven) stops without a file, with a ValueError saying so."""
         with self.lock:
             if self.recorder is None:
                 raise ValueError("not recording")
             demo, self.recorder = self.recorder.result(operator=self.operator), None
+        if len(demo.time_s) < MIN_SAMPLES:
+            raise ValueError(f"nothing saved: the recording has {len(demo.time_s)} sample(s), a demonstration "
+                             f"needs {MIN_SAMPLES}; drive the knife while recording")
         path = save_demonstration(demo, self.out_dir / f"demo_{self.session_id[:8]}_{len(self.saved):03d}.json")
         self.saved.append(path)
         return path
