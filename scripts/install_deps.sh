@@ -23,6 +23,8 @@ PACKAGES=(
   python3-matplotlib python3-pil
   # dataset files (HDF5: robomimic/LIBERO and RDT layouts)
   python3-h5py
+  # the safety module's force-model fit (scipy.optimize.nnls)
+  python3-scipy
 )
 # Only the test suite needs these (scripts/test.sh passes --tests): the HTML benchmark report is
 # checked in a real headless browser, and the fuzz targets build with clang, libFuzzer and sanitizers.
