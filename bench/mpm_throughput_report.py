@@ -16,7 +16,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-TARGET_PARTICLE_STEPS_PER_S = 10e6  # the target: 100k particles, 2 threads, float32
+TARGET_PARTICLE_STEPS_PER_S = 10e6  # the engine's throughput target: 100k particles, 2 threads, float32
 
 # Work of one particle-step, counted from sim/mpm/solver.cc (float32; see the report for the
 # breakdown): memory traffic of the particle arrays (the grid stays in cache) and arithmetic.

@@ -17,7 +17,7 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-TARGET_SETS_PER_S = 30.0  # the target: 224 x 224, three cameras, llvmpipe, 2 cores
+TARGET_SETS_PER_S = 30.0  # the renderer's throughput target: 224 x 224, three cameras, llvmpipe, 2 cores
 REPETITIONS = 3           # shared machines drift: report medians
 
 
