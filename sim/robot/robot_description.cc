@@ -5,6 +5,7 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include "sim/robot/kinematics.h"
+#include "sim/robot/rigid_bodies.h"
 #include "sim/robot/robot_visuals_from_urdf.h"
 #include "sim/robot/urdf_pose.h"
 
@@ -86,41 +87,32 @@ RobotDescription LoadRobotDescription(const std::string& urdf_path, const std::s
   urdf::LinkConstSharedPtr tip = model->getLink(tip_link);
   if (!tip) throw std::runtime_error(urdf_path + ": no link named '" + tip_link + "'");
 
-  // The path root -> tip, as links.
-  std::vector<urdf::LinkConstSharedPtr> path;
-  for (urdf::LinkConstSharedPtr link = tip; link; link = link->getParent()) path.insert(path.begin(), link);
-
   RobotDescription robot;
   robot.name = model->getName();
+  const RigidBodies chain = GroupRigidBodies(*model, tip.get());
+  robot.links.reserve(chain.bodies.size());  // keeps `owner` valid while links grow
   RigidLink* owner = &robot.base;
-  owner->name = path.front()->name;
-  Eigen::Isometry3d link_to_owner = Eigen::Isometry3d::Identity();
-  MergeInto(owner, *path.front(), link_to_owner, urdf_path);
-
-  robot.links.reserve(path.size());  // keeps `owner` valid while links grow
-  for (size_t i = 1; i < path.size(); ++i) {
-    const urdf::Link& link = *path[i];
-    const urdf::Joint& joint = *link.parent_joint;
-    const Eigen::Isometry3d origin = IsometryFromUrdf(joint.parent_to_joint_origin_transform);
-    if (joint.type == urdf::Joint::FIXED) {
-      link_to_owner = link_to_owner * origin;
-      MergeInto(owner, link, link_to_owner, urdf_path);
-      if (!robot.links.empty()) robot.tip_frames[link.name] = link_to_owner;
-      continue;
+  owner->name = chain.links.front().link->name;
+  for (const LinkInBody& entry : chain.links) {
+    const urdf::Link& link = *entry.link;
+    if (entry.starts_body && entry.body > 0) {
+      const RigidBody& body = chain.bodies[entry.body];
+      const urdf::Joint& joint = *body.joint;
+      if (joint.type != urdf::Joint::REVOLUTE) {
+        throw std::runtime_error(urdf_path + ": joint '" + joint.name + "' is not revolute or fixed");
+      }
+      if (!joint.limits) throw std::runtime_error(urdf_path + ": revolute joint '" + joint.name + "' has no <limit>");
+      robot.joint_names.push_back(joint.name);
+      robot.joint_origins.push_back(body.joint_origin);
+      robot.joint_axes.push_back(Eigen::Vector3d(joint.axis.x, joint.axis.y, joint.axis.z).normalized());
+      robot.limits.push_back({joint.limits->lower, joint.limits->upper, joint.limits->velocity, joint.limits->effort});
+      robot.links.emplace_back();
+      owner = &robot.links.back();
+      owner->name = link.name;
     }
-    if (joint.type != urdf::Joint::REVOLUTE) {
-      throw std::runtime_error(urdf_path + ": joint '" + joint.name + "' is not revolute or fixed");
-    }
-    if (!joint.limits) throw std::runtime_error(urdf_path + ": revolute joint '" + joint.name + "' has no <limit>");
-    robot.joint_names.push_back(joint.name);
-    robot.joint_origins.push_back(link_to_owner * origin);
-    robot.joint_axes.push_back(Eigen::Vector3d(joint.axis.x, joint.axis.y, joint.axis.z).normalized());
-    robot.limits.push_back({joint.limits->lower, joint.limits->upper, joint.limits->velocity, joint.limits->effort});
-    robot.links.emplace_back();
-    owner = &robot.links.back();
-    owner->name = link.name;
-    link_to_owner = Eigen::Isometry3d::Identity();
-    MergeInto(owner, link, link_to_owner, urdf_path);
+    MergeInto(owner, link, entry.in_body, urdf_path);
+    // Fixed links past the first movable joint are frames a caller may ask for (flange, knife, ...).
+    if (!entry.starts_body && entry.body > 0) robot.tip_frames[link.name] = entry.in_body;
   }
   if (robot.links.empty()) throw std::runtime_error(urdf_path + ": no movable joint between the root and '" + tip_link + "'");
   if (robot.dof() > kMaxJoints) {

@@ -1,6 +1,7 @@
 // A serial robot arm read from URDF: the movable joints from the root to a tip link, with every
-// fixed link on the way merged into the movable link that carries it. Frames and units follow URDF
-// (metres, radians, kilograms); "link frame i" is the frame of the link moved by joint i.
+// fixed link on the way merged into the movable link that carries it (sim/robot/rigid_bodies.h).
+// Frames and units follow URDF (metres, radians, kilograms); "link frame i" is the frame of the link
+// moved by joint i.
 #pragma once
 
 #include <map>

@@ -1,15 +1,16 @@
 #include "sim/robot/robot_visuals_from_urdf.h"
 
-#include <functional>
 #include <stdexcept>
 
 #include <urdf_parser/urdf_parser.h>
 
+#include "sim/robot/rigid_bodies.h"
 #include "sim/robot/urdf_pose.h"
 
 namespace culinarycut {
 namespace {
 
+// The joints the renderer can pose; the grouping itself only tells fixed from the rest.
 bool IsMovable(const urdf::Joint& joint) {
   return joint.type == urdf::Joint::REVOLUTE || joint.type == urdf::Joint::CONTINUOUS ||
          joint.type == urdf::Joint::PRISMATIC;
@@ -65,39 +66,31 @@ RobotVisualDescription RobotVisualsFromUrdf(const urdf::ModelInterface& model, c
   if (!root) throw std::runtime_error(urdf_path + ": the URDF has no root link");
   RobotVisualDescription description;
   description.urdf_path = urdf_path;
-  description.owner_names.push_back(root->name);
-  // Depth first from the root; a movable joint starts a new owner, a fixed one merges into the parent's.
-  std::function<void(const urdf::Link&, int, const Eigen::Isometry3d&)> visit =
-      [&](const urdf::Link& link, int owner, const Eigen::Isometry3d& link_in_owner) {
-        description.link_frames[link.name] = {owner, link_in_owner};
-        for (const auto& visual : link.visual_array) {
-          if (!visual || !visual->geometry) continue;
-          RobotVisual part;
-          part.link_name = link.name;
-          part.owner = owner;
-          part.in_owner = link_in_owner * IsometryFromUrdf(visual->origin);
-          part.shape = ShapeFromUrdf(*visual->geometry, urdf_path, link.name);
-          if (visual->material && visual->material->color.r + visual->material->color.g + visual->material->color.b > 0) {
-            const auto& c = visual->material->color;
-            part.srgb_color = Eigen::Vector3f(c.r, c.g, c.b);
-          }
-          description.visuals.push_back(std::move(part));
-        }
-        for (const auto& joint : link.child_joints) {
-          const urdf::LinkConstSharedPtr child = model.getLink(joint->child_link_name);
-          if (!child) continue;
-          const Eigen::Isometry3d joint_origin = IsometryFromUrdf(joint->parent_to_joint_origin_transform);
-          if (IsMovable(*joint)) {
-            description.owner_names.push_back(child->name);
-            visit(*child, static_cast<int>(description.owner_names.size()) - 1, Eigen::Isometry3d::Identity());
-          } else if (joint->type == urdf::Joint::FIXED) {
-            visit(*child, owner, link_in_owner * joint_origin);
-          } else {
-            throw std::runtime_error(urdf_path + ": joint '" + joint->name + "' is floating or planar; not supported");
-          }
-        }
-      };
-  visit(*root, 0, Eigen::Isometry3d::Identity());
+  const RigidBodies tree = GroupRigidBodies(model);
+  for (const LinkInBody& entry : tree.links) {
+    const urdf::Link& link = *entry.link;
+    if (entry.starts_body) {
+      const urdf::Joint* joint = tree.bodies[entry.body].joint;
+      if (joint && !IsMovable(*joint)) {
+        throw std::runtime_error(urdf_path + ": joint '" + joint->name + "' is floating or planar; not supported");
+      }
+      description.owner_names.push_back(link.name);
+    }
+    description.link_frames[link.name] = {entry.body, entry.in_body};
+    for (const auto& visual : link.visual_array) {
+      if (!visual || !visual->geometry) continue;
+      RobotVisual part;
+      part.link_name = link.name;
+      part.owner = entry.body;
+      part.in_owner = entry.in_body * IsometryFromUrdf(visual->origin);
+      part.shape = ShapeFromUrdf(*visual->geometry, urdf_path, link.name);
+      if (visual->material && visual->material->color.r + visual->material->color.g + visual->material->color.b > 0) {
+        const auto& c = visual->material->color;
+        part.srgb_color = Eigen::Vector3f(c.r, c.g, c.b);
+      }
+      description.visuals.push_back(std::move(part));
+    }
+  }
   return description;
 }
 

@@ -1,6 +1,5 @@
-// Reads a parsed URDF's visuals into the plain RobotVisualDescription (sim/core), with the one
-// fixed-link merging rule of the robot description: a movable joint starts a new owner, a fixed one
-// merges its child into the parent's owner.
+// Reads a parsed URDF's visuals into the plain RobotVisualDescription (sim/core), their owners the
+// rigid bodies of sim/robot/rigid_bodies.h, the grouping the robot description uses too.
 #pragma once
 
 #include <string>
