@@ -80,7 +80,8 @@ def _safety_fields(task) -> dict[str, Any]:
     on = task.safety_limiter
     return {"safety_limiter": int(on), "safety_settings": json.dumps(task.safety, sort_keys=True) if on else None,
             "safety_max_force_n": float(task.safety.get("max_force_n", DEFAULT_MAX_FORCE_N)) if on else None,
-            "safety_acted_steps": 0, **{f"interventions_{guard}": 0 for guard in SAFETY_GUARDS}}
+            "safety_acted_steps": 0, "peak_commanded_speed_m_s": 0.0 if on else None,
+            **{f"interventions_{guard}": 0 for guard in SAFETY_GUARDS}}
 
 
 def _score_fields(score: dict | None) -> dict[str, Any]:
@@ -241,7 +242,8 @@ def _record_step(observation, info, trace, row, frames) -> None:
     extra = observation["extra"]
     force_n = float(np.linalg.norm(extra["wrist_wrench"][:3]))
     speed_m_s = float(np.linalg.norm(extra["tcp_velocity"][:3]))
-    acted = bool(info.get("safety", {}).get("acted", False))
+    safety = info.get("safety", {})
+    acted = bool(safety.get("acted", False))
     trace["time_s"].append(round(info["sim_time"], 6))
     trace["force_n"].append(round(force_n, 4))
     trace["speed_m_s"].append(round(speed_m_s, 5))
@@ -250,6 +252,8 @@ def _record_step(observation, info, trace, row, frames) -> None:
     trace["knife_contact"].append(int(info.get("food", {}).get("knife_contact", False)))
     trace["safety_acted"].append(int(acted))
     row["safety_acted_steps"] += int(acted)
+    if safety:
+        row["peak_commanded_speed_m_s"] = max(row["peak_commanded_speed_m_s"], safety["commanded_speed_m_s"])
     row["peak_force_n"] = max(row["peak_force_n"], force_n)
     row["peak_speed_m_s"] = max(row["peak_speed_m_s"], speed_m_s)
     row["stalled_steps"] += int(info.get("knife_stalled", False))

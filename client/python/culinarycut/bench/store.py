@@ -63,6 +63,8 @@ EPISODE_COLUMNS = (
     ("safety_settings", "TEXT", "JSON: the limiter's settings as the suite gave them (max_force_n, margin, guards, "
                                 "max_entry_angle_deg; unset: the server's defaults)"),
     ("safety_max_force_n", "REAL", "the limiter's F_max (N); empty with it off"),
+    ("peak_commanded_speed_m_s", "REAL", "peak speed into the food the actions commanded, before the limit (m/s; "
+                                         "the limiter measures it, so empty with it off)"),
     ("safety_acted_steps", "INTEGER", "control steps whose joint target the limiter shortened"),
     ("interventions_speed", "INTEGER", "steps the limiter's speed guard bound"),
     ("interventions_force", "INTEGER", "steps the limiter's force guard bound"),
