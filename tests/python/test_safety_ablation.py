@@ -206,3 +206,10 @@ def test_a_run_without_the_limiter_has_no_safety_section(tmp_path, address):
     bench("run", str(suite), "--policy", "noop", "--server", address, "--out", str(tmp_path / "run"), "--no-progress")
     bench("report", str(tmp_path / "run"))
     assert "Safety limiter" not in (tmp_path / "run" / "report.md").read_text()
+
+
+def test_the_success_chart_draws_a_food_that_always_succeeds():
+    """At n/n successes the Wilson bound can round a hair under 100 %; the bar's error must not go negative."""
+    from culinarycut.bench.report_charts import success_per_food
+    rows = [{"food": "banana", "outcome": "success"}] * 60
+    assert success_per_food([("run", rows)]).startswith(b"\x89PNG")
