@@ -157,7 +157,7 @@ def main() -> int:
               f"| Step round trip with food, limiter on / off: free air (median over rounds of the rounds' p50 ratio) "
               f"| {ratio_free:.3f} |",
               f"| a whole oracle cut's Step round trips, limiter on / off (median over cuts) | {ratio_cut:.3f} |", "",
-              "A cut's steps are bimodal (milliseconds while the food's MPM sleeps, about a second while the knife "
+              "A cut's steps are bimodal (about a millisecond while the food's MPM sleeps, hundreds while the knife "
               "is in it), so the cut compares whole cuts: "
               + "; ".join(f"{name} {', '.join(f'{t / 1e3:.1f}' for t in totals)} s" for name, totals in cut_totals.items())
               + ". The on/off ratios of round trips carry the machine's noise (p50 of each free-air round: "

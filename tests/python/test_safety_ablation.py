@@ -122,6 +122,8 @@ def test_a_suite_without_the_limiter_keeps_its_task_names_and_seeds():
      r"^suite.safety.max_entry_angle_deg: 120 is greater than the maximum of 90"),
     ('safety_limiter = true\nsafety = { f_max = 50 }\n[[tasks]]\nfood = "apple"\nstate = "middle"\n',
      r"^suite.safety: .*'f_max' was unexpected\); valid fields: max_force_n, margin, guards, max_entry_angle_deg$"),
+    ('safety = { max_force_n = 50 }\n[[tasks]]\nfood = "apple"\nstate = "middle"\n',
+     r"^suite.safety: settings for a safety limiter that no task turns on"),
     ('[[tasks]]\nfood = "apple"\nstate = "middle"\nsafety = { max_force_n = 50 }\n',
      r"^suite.tasks\[0\].safety: settings for a safety limiter that is off; set safety_limiter = true"),
     ('[[tasks]]\nfood = "apple"\nstate = "middle"\nsafety_limiter = true\nsafety = { margin = 0.2 }\n'

@@ -12,13 +12,13 @@ import numpy as np
 from google.protobuf import json_format
 
 from culinarycut.bench.episode_scene import EpisodeSpec
+from culinarycut.bench.suite import ALL_GUARDS
 from culinarycut.client import Client
 from culinarycut.env import CulinaryCutEnv
 from culinarycut.errors import CulinaryCutError, Unavailable
 from culinarycut.policies.base import EpisodeSession, Policy
 from culinarycut.policies.registry import make_policy
 
-SAFETY_GUARDS = ("speed", "force", "entry_angle")
 DEFAULT_MAX_FORCE_N = 100.0  # the server's F_max when the settings give none (docs/safety.md)
 
 # --record-failures films the default front view; a policy that sees "front" itself shares its images.
@@ -81,7 +81,7 @@ def _safety_fields(task) -> dict[str, Any]:
     return {"safety_limiter": int(on), "safety_settings": json.dumps(task.safety, sort_keys=True) if on else None,
             "safety_max_force_n": float(task.safety.get("max_force_n", DEFAULT_MAX_FORCE_N)) if on else None,
             "safety_acted_steps": 0, "peak_commanded_speed_m_s": 0.0 if on else None,
-            **{f"interventions_{guard}": 0 for guard in SAFETY_GUARDS}}
+            **{f"interventions_{guard}": 0 for guard in ALL_GUARDS}}
 
 
 def _score_fields(score: dict | None) -> dict[str, Any]:
@@ -226,7 +226,7 @@ def _record_safety_totals(stats, row: dict) -> None:
         return
     row["peak_knife_force_n"] = float(stats.safety.peak_knife_force_n)
     row["peak_cutting_speed_m_s"] = float(stats.safety.peak_cutting_speed_m_s)
-    for guard in SAFETY_GUARDS:
+    for guard in ALL_GUARDS:
         row[f"interventions_{guard}"] = int(stats.safety.interventions.get(guard, 0))
 
 

@@ -8,9 +8,9 @@ import re
 import statistics
 from collections import defaultdict
 
+from culinarycut.bench.suite import ALL_GUARDS
 from culinarycut.bench.tables import success_by
 
-ALL_GUARDS = ("speed", "force", "entry_angle")
 PAPER_F_MAX_N = 100.0
 # The paper's "Ablation Study of Safety module" table (20 trials, its aggressive policy): labelled as the paper's.
 PAPER_WITHOUT = {"speed_m_s": 3.63, "force_n": 129.31}

@@ -163,7 +163,7 @@ def _as_list(value) -> list:
     return value if isinstance(value, list) else [value]
 
 
-ALL_GUARDS = ("speed", "force", "entry_angle")
+ALL_GUARDS = ("speed", "force", "entry_angle")  # the safety limiter's guards (docs/safety.md)
 
 
 def _safety_label(limiter: bool, settings: dict) -> str:
@@ -253,6 +253,9 @@ def load_suite(name_or_path: str) -> Suite:
     tasks: list[Task] = []
     for index, entry in enumerate(document["tasks"]):
         tasks.extend(_expand(entry, defaults, f"suite.tasks[{index}]"))
+    if "safety" in document and not any(t.safety_limiter for t in tasks):
+        raise SuiteError("suite.safety: settings for a safety limiter that no task turns on; set safety_limiter = "
+                         "true in the suite or a task")
     names = [t.name for t in tasks]
     duplicates = sorted({n for n in names if names.count(n) > 1})
     if duplicates:
