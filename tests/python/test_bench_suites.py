@@ -12,7 +12,7 @@ from culinarycut.bench.episode_scene import DISTRACTOR_SLOTS_M, episode_spec, su
 from culinarycut.bench.suite import SuiteError, available_suites, episode_seed, load_suite
 
 SHIPPED = ["smoke", "unseen-seeds", "multi-object", "unseen-language", "cross-object", "continuous-ratio",
-           "split-partial", "topology-ablation"]
+           "split-partial", "topology-ablation", "safety-ablation"]
 
 
 def write_suite(tmp_path, body: str, name: str = "mine"):
@@ -47,7 +47,7 @@ def test_every_shipped_suite_loads_and_the_paper_settings_are_there():
     # an unknown field: the message lists the fields that may stand there
     ('[[tasks]]\nfood = "apple"\nstate = "middle"\ncolour = "red"\n',
      r"'colour' was unexpected\); valid fields: name, group, food, style, state, ratio, side, pieces, distractors, "
-     r"topology, scene, language, quality, trials, max_episode_steps, material_overrides$"),
+     r"topology, scene, language, quality, trials, max_episode_steps, material_overrides, safety_limiter, safety$"),
     ('randomize = { yaw = 5 }\n[[tasks]]\nfood = "apple"\nstate = "middle"\n',
      r"^suite.randomize: .*'yaw' was unexpected\); valid fields: position_m, yaw_deg, scale$"),
     ('[report]\nratio_radar = true\n[[tasks]]\nfood = "apple"\nstate = "middle"\n',

@@ -12,11 +12,14 @@ import numpy as np
 from google.protobuf import json_format
 
 from culinarycut.bench.episode_scene import EpisodeSpec
+from culinarycut.bench.suite import ALL_GUARDS
 from culinarycut.client import Client
 from culinarycut.env import CulinaryCutEnv
 from culinarycut.errors import CulinaryCutError, Unavailable
 from culinarycut.policies.base import EpisodeSession, Policy
 from culinarycut.policies.registry import make_policy
+
+DEFAULT_MAX_FORCE_N = 100.0  # the server's F_max when the settings give none (docs/safety.md)
 
 # --record-failures films the default front view; a policy that sees "front" itself shares its images.
 RECORD_CAMERA = {"name": "front", "width": 160, "height": 120, "channels": ["rgb"]}
@@ -68,7 +71,17 @@ def _task_row(spec: EpisodeSpec) -> dict[str, Any]:
             "food": task.food, "style": task.style, "state": task.state,
             "ratio": task.ratio if task.state == "ratio" else None, "side": task.side,
             "pieces_required": task.pieces if task.state == "split" else None, "distractors": task.distractors,
-            "topology": int(task.topology), "scene": task.scene, "language": task.language, "quality": task.quality}
+            "topology": int(task.topology), "scene": task.scene, "language": task.language, "quality": task.quality,
+            **_safety_fields(task)}
+
+
+def _safety_fields(task) -> dict[str, Any]:
+    """The limiter's switch and settings; its counts start at 0 (the session's totals fill them in)."""
+    on = task.safety_limiter
+    return {"safety_limiter": int(on), "safety_settings": json.dumps(task.safety, sort_keys=True) if on else None,
+            "safety_max_force_n": float(task.safety.get("max_force_n", DEFAULT_MAX_FORCE_N)) if on else None,
+            "safety_acted_steps": 0, "peak_commanded_speed_m_s": 0.0 if on else None,
+            **{f"interventions_{guard}": 0 for guard in ALL_GUARDS}}
 
 
 def _score_fields(score: dict | None) -> dict[str, Any]:
@@ -93,7 +106,8 @@ def run_episode(spec: EpisodeSpec, server: str, options: EpisodeOptions) -> Epis
                peak_force_n=0.0, peak_speed_m_s=0.0, stalled_steps=0, pieces=0, instruction="", resolved_scene="",
                env_wall_s=0.0, policy_wall_s=0.0, stage_wall_s="{}", server_version="", build_id="",
                policy_version="", **_score_fields(None))
-    trace: dict[str, list] = {"time_s": [], "force_n": [], "speed_m_s": [], "tcp_z_m": []}
+    trace: dict[str, list] = {"time_s": [], "force_n": [], "speed_m_s": [], "tcp_z_m": [], "tcp_along_cut_m": [],
+                              "knife_contact": [], "safety_acted": []}
     frames: list = []
     try:
         with Client(server, timeout_s=options.rpc_timeout_s) as client:
@@ -200,18 +214,46 @@ def _play(client: Client, spec: EpisodeSpec, policy: Policy, options: EpisodeOpt
         row["end_reason"] = end_reason
         stats = client.session_stats(env.session_id)
         row["stage_wall_s"] = json.dumps({k: round(v, 6) for k, v in sorted(stats.stage_wall_time_s.items())})
+        _record_safety_totals(stats, row)
     row["env_wall_s"] = env_wall
     row["policy_wall_s"] = policy_wall
+
+
+def _record_safety_totals(stats, row: dict) -> None:
+    """The session's safety totals: the knife's peaks (limiter on or off) and, with the limiter, its
+    interventions per guard."""
+    if not stats.HasField("safety"):
+        return
+    row["peak_knife_force_n"] = float(stats.safety.peak_knife_force_n)
+    row["peak_cutting_speed_m_s"] = float(stats.safety.peak_cutting_speed_m_s)
+    for guard in ALL_GUARDS:
+        row[f"interventions_{guard}"] = int(stats.safety.interventions.get(guard, 0))
+
+
+def _along_cut_m(tcp_pose) -> float:
+    """The TCP's position on its own cutting direction (+z, the edge leads; docs/safety.md): with the blade's
+    orientation held, its change is the knife's travel along the cut."""
+    w, x, y, z = (float(v) for v in tcp_pose[3:7])
+    z_axis = np.array([2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)])
+    return float(np.dot(np.asarray(tcp_pose[:3], dtype=float), z_axis))
 
 
 def _record_step(observation, info, trace, row, frames) -> None:
     extra = observation["extra"]
     force_n = float(np.linalg.norm(extra["wrist_wrench"][:3]))
     speed_m_s = float(np.linalg.norm(extra["tcp_velocity"][:3]))
+    safety = info.get("safety", {})
+    acted = bool(safety.get("acted", False))
     trace["time_s"].append(round(info["sim_time"], 6))
     trace["force_n"].append(round(force_n, 4))
     trace["speed_m_s"].append(round(speed_m_s, 5))
     trace["tcp_z_m"].append(round(float(extra["tcp_pose"][2]), 5))
+    trace["tcp_along_cut_m"].append(round(_along_cut_m(extra["tcp_pose"]), 5))
+    trace["knife_contact"].append(int(info.get("food", {}).get("knife_contact", False)))
+    trace["safety_acted"].append(int(acted))
+    row["safety_acted_steps"] += int(acted)
+    if safety:
+        row["peak_commanded_speed_m_s"] = max(row["peak_commanded_speed_m_s"], safety["commanded_speed_m_s"])
     row["peak_force_n"] = max(row["peak_force_n"], force_n)
     row["peak_speed_m_s"] = max(row["peak_speed_m_s"], speed_m_s)
     row["stalled_steps"] += int(info.get("knife_stalled", False))

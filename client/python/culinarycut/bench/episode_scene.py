@@ -50,7 +50,7 @@ def _food(name: str, xy_m, yaw_rad: float, scale: float, overrides: dict) -> dic
 
 def episode_spec(suite: Suite, task: Task, trial: int) -> EpisodeSpec:
     """The episode (suite, task, trial): the same inputs give the same scene on any machine."""
-    seed = episode_seed(suite.name, task.name, trial)
+    seed = episode_seed(suite.name, task.seed_name or task.name, trial)
     rng = np.random.Generator(np.random.PCG64(seed))
     randomize = suite.randomize
     jitter = randomize["position_m"]
@@ -80,6 +80,9 @@ def episode_spec(suite: Suite, task: Task, trial: int) -> EpisodeSpec:
         "max_episode_steps": task.max_episode_steps,
         "cameras": [dict(camera) for camera in suite.cameras],
     }
+    if task.safety_limiter:
+        scene["effects"]["safety_limiter"] = True
+        scene["safety"] = task.safety_spec()
     return EpisodeSpec(suite=suite.name, task=task, trial=trial, seed=seed, scene=scene, language=task.language)
 
 

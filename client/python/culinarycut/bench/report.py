@@ -11,7 +11,7 @@ import html
 from dataclasses import dataclass
 from pathlib import Path
 
-from culinarycut.bench import report_charts
+from culinarycut.bench import report_charts, safety_figure, safety_tables
 from culinarycut.bench.store import DATABASE_NAME, ResultStore
 from culinarycut.bench.tables import markdown_table, rate_cells, split_partial, success_by
 
@@ -113,6 +113,34 @@ def _topology_blocks(runs: list[Run]) -> list[Block]:
     return blocks
 
 
+def _safety_blocks(runs: list[Run]) -> list[Block]:
+    """The paper's safety ablation: its table (ours beside the paper's) and its figure, for each run that holds
+    episodes with the limiter on and off."""
+    blocks = [Block("heading", "Safety limiter: on against off"),
+              Block("text", "Means over the trials of each setting. Max cutting speed: the knife's peak speed along "
+                            "its cutting direction while in the food; max force: the peak food force on the knife "
+                            "over every physics step (the server's session totals). The paper's numbers (its "
+                            "aggressive policy, 20 trials, F_max 100 N) stand beside ours where it ran the setting.")]
+    for index, run in enumerate(runs):
+        if not safety_tables.is_ablation(run.rows):
+            continue
+        if len(runs) > 1:
+            blocks.append(Block("text", run.label))
+        header, rows = safety_tables.settings_table(run.rows)
+        blocks.append(Block("table", header=header, rows=rows))
+        header, rows = safety_tables.food_table(run.rows)
+        blocks.append(Block("table", header=header, rows=rows))
+        task = safety_figure.figure_task(run.rows)
+        cases = safety_figure.figure_cases(run.rows, [trace for _, trace in run.traces], task)
+        if cases:
+            trial = cases[0][1]["trial"]
+            caption = (f"{task}, trial {trial}: knife travel and contact force, limiter off and on (red: spans "
+                       f"above {safety_figure.HIGH_FORCE_N:g} N with it off; dashed: each setting's F_max)")
+            blocks.append(Block("image", caption, data=safety_figure.ablation_figure(cases, f"{task}, trial {trial}"),
+                                name=f"safety_ablation{'_' + str(index) if index else ''}.png"))
+    return blocks
+
+
 def _failure_blocks(runs: list[Run]) -> list[Block]:
     blocks = [Block("heading", "First failure of each task")]
     for run in runs:
@@ -164,6 +192,8 @@ def build_blocks(runs: list[Run]) -> list[Block]:
         blocks += _split_blocks(runs)
     if len({r["topology"] for run in runs for r in run.rows}) > 1:
         blocks += _topology_blocks(runs)
+    if any(safety_tables.is_ablation(run.rows) for run in runs):
+        blocks += _safety_blocks(runs)
     tasks = list(dict.fromkeys(r["task"] for run in runs for r in run.rows))[:MAX_FORCE_PANELS]
     blocks.append(Block("heading", "Knife force over time"))
     blocks.append(Block("image", "Force at the wrist, every trial", data=report_charts.force_overlays(

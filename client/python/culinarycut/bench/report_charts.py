@@ -39,8 +39,9 @@ def success_per_food(runs: list[tuple[str, list[dict]]]) -> bytes:
             lo, hi = rate.interval
             xs.append(j + (i - (len(runs) - 1) / 2) * width)
             rates.append(100 * rate.rate)
-            low.append(100 * (rate.rate - lo))
-            high.append(100 * (hi - rate.rate))
+            # Clamped: at 100 % (e.g. 60/60) rounding puts the Wilson bound a hair under the rate.
+            low.append(max(0.0, 100 * (rate.rate - lo)))
+            high.append(max(0.0, 100 * (hi - rate.rate)))
         axes.bar(xs, rates, width, yerr=[low, high], capsize=3, label=label, color=COLOURS[i % len(COLOURS)])
     axes.set_xticks(range(len(foods)), foods)
     axes.set_ylabel("success (%)")

@@ -57,6 +57,18 @@ EPISODE_COLUMNS = (
     ("pieces", "INTEGER", "pieces at the end"),
     ("peak_force_n", "REAL", "peak knife force at the wrist (N)"),
     ("peak_speed_m_s", "REAL", "peak knife (TCP) speed (m/s)"),
+    ("peak_knife_force_n", "REAL", "peak food force on the knife over every physics step (N; the session's safety totals)"),
+    ("peak_cutting_speed_m_s", "REAL", "peak knife (TCP) speed along its cutting direction while in the food (m/s)"),
+    ("safety_limiter", "INTEGER", "1: the safety limiter was on (docs/safety.md)"),
+    ("safety_settings", "TEXT", "JSON: the limiter's settings as the suite gave them (max_force_n, margin, guards, "
+                                "max_entry_angle_deg; unset: the server's defaults)"),
+    ("safety_max_force_n", "REAL", "the limiter's F_max (N); empty with it off"),
+    ("peak_commanded_speed_m_s", "REAL", "peak speed into the food the actions commanded, before the limit (m/s; "
+                                         "the limiter measures it, so empty with it off)"),
+    ("safety_acted_steps", "INTEGER", "control steps whose joint target the limiter shortened"),
+    ("interventions_speed", "INTEGER", "steps the limiter's speed guard bound"),
+    ("interventions_force", "INTEGER", "steps the limiter's force guard bound"),
+    ("interventions_entry_angle", "INTEGER", "steps the limiter's entry-angle guard bound"),
     ("stalled_steps", "INTEGER", "steps the knife was in the food with the arm at its effort limit"),
     ("steps", "INTEGER", "control steps"),
     ("sim_time_s", "REAL", "simulated time (s)"),

@@ -50,6 +50,14 @@ class Task:
     max_episode_steps: int
     group: str = ""
     material_overrides: dict = field(default_factory=dict, hash=False, compare=False)
+    safety_limiter: bool = False     # the safety limiter (docs/safety.md) on in the episode's scene
+    seed_name: str = ""              # the name the seeds come from: without the limiter's suffix, so the
+                                     # settings of an ablation see the same scenes trial by trial
+    safety: dict = field(default_factory=dict, hash=False, compare=False)  # its settings (SceneSpec.safety)
+
+    def safety_spec(self) -> dict[str, Any] | None:
+        """SceneSpec.safety for this task's scene; None with the limiter off."""
+        return dict(self.safety) if self.safety_limiter else None
 
     def cut_spec(self) -> dict[str, Any]:
         """The task as a CutSpec dict (the Tasks service's form)."""
@@ -155,7 +163,19 @@ def _as_list(value) -> list:
     return value if isinstance(value, list) else [value]
 
 
-def _task_name(combo: dict) -> str:
+ALL_GUARDS = ("speed", "force", "entry_angle")  # the safety limiter's guards (docs/safety.md)
+
+
+def _safety_label(limiter: bool, settings: dict) -> str:
+    """limiter-off, limiter-<F_max>N (the server's default F_max is 100 N), with the guards when not all."""
+    if not limiter:
+        return "limiter-off"
+    label = f"limiter-{settings.get('max_force_n', 100):g}N"
+    guards = settings.get("guards", ALL_GUARDS)
+    return label if set(guards) == set(ALL_GUARDS) else label + "-" + "-".join(guards)
+
+
+def _task_name(combo: dict, with_safety: bool = True) -> str:
     """e.g. cucumber/normal/ratio-0.3-left, apple/guillotine/middle/distractors-2/topology-off."""
     parts = [combo["food"], combo["style"]]
     state = combo["state"]
@@ -170,22 +190,38 @@ def _task_name(combo: dict) -> str:
         parts.append("topology-off")
     if combo["scene"] != "table":
         parts.append(combo["scene"])
+    if with_safety and combo.get("safety_label"):
+        parts.append(combo["safety_label"])
     return "/".join(parts)
 
 
-def _expand(entry: dict, defaults: dict) -> list[Task]:
+def _safety_of(entry: dict, defaults: dict, where: str) -> tuple[bool, dict, str]:
+    """The task's limiter switch, its settings (the suite's, then the task's over them) and the name suffix
+    (only when the suite or the task declares the limiter, so older suites keep their task names)."""
+    limiter = entry.get("safety_limiter", defaults["safety_limiter"])
+    if "safety" in entry and not limiter:
+        raise SuiteError(f"{where}.safety: settings for a safety limiter that is off; set safety_limiter = true "
+                         "in the task or the suite")
+    settings = {**defaults["safety"], **entry.get("safety", {})}
+    declared = "safety_limiter" in entry or defaults["safety_declared"]
+    return bool(limiter), settings if limiter else {}, _safety_label(limiter, settings) if declared else ""
+
+
+def _expand(entry: dict, defaults: dict, where: str = "suite.tasks[0]") -> list[Task]:
+    limiter, safety, safety_label = _safety_of(entry, defaults, where)
     fixed = {"style": "normal", "ratio": 0.5, "side": "none", "pieces": 3, "distractors": 0,
              "topology": defaults["topology"], "scene": defaults["scene"], **entry}
     lists = [_as_list(fixed[name]) for name in EXPANDING_FIELDS]
     single = all(len(values) == 1 for values in lists)
     tasks = []
     for values in itertools.product(*lists):
-        combo = dict(zip(EXPANDING_FIELDS, values))
+        combo = dict(zip(EXPANDING_FIELDS, values), safety_label=safety_label)
         if combo["state"] == "ratio" and combo["side"] not in ("left", "right"):
             combo["side"] = "left"  # a ratio is measured from an end; left is the paper's default
-        name = _task_name(combo)
+        name, seed_name = _task_name(combo), _task_name(combo, with_safety=False)
         if "name" in entry:
             name = entry["name"] if single else f"{entry['name']}/{name}"
+            seed_name = name
         tasks.append(Task(name=name, group=entry.get("group", ""),
                           language=entry.get("language", defaults["language"]),
                           quality=entry.get("quality", defaults["quality"]),
@@ -195,7 +231,7 @@ def _expand(entry: dict, defaults: dict) -> list[Task]:
                           food=combo["food"], style=combo["style"], state=combo["state"],
                           ratio=float(combo["ratio"]), side=combo["side"], pieces=int(combo["pieces"]),
                           distractors=int(combo["distractors"]), topology=bool(combo["topology"]),
-                          scene=combo["scene"]))
+                          scene=combo["scene"], safety_limiter=limiter, safety=safety, seed_name=seed_name))
     return tasks
 
 
@@ -211,11 +247,15 @@ def load_suite(name_or_path: str) -> Suite:
     if document["name"] != path.stem:
         raise SuiteError(f"suite.name: {document['name']!r} differs from the file name {path.stem!r}")
     defaults = {"trials": 20, "max_episode_steps": 600, "language": "train", "quality": "draft", "scene": "table",
-                "topology": True, "material_overrides": {}}
+                "topology": True, "material_overrides": {}, "safety_limiter": False, "safety": {}}
     defaults.update({k: document[k] for k in defaults if k in document})
+    defaults["safety_declared"] = "safety_limiter" in document
     tasks: list[Task] = []
-    for entry in document["tasks"]:
-        tasks.extend(_expand(entry, defaults))
+    for index, entry in enumerate(document["tasks"]):
+        tasks.extend(_expand(entry, defaults, f"suite.tasks[{index}]"))
+    if "safety" in document and not any(t.safety_limiter for t in tasks):
+        raise SuiteError("suite.safety: settings for a safety limiter that no task turns on; set safety_limiter = "
+                         "true in the suite or a task")
     names = [t.name for t in tasks]
     duplicates = sorted({n for n in names if names.count(n) > 1})
     if duplicates:
