@@ -27,13 +27,15 @@ std::vector<Material> Presets() {
   return {
       make("apple", 3.0e6, 0.17, 787.0, 0.35e6, 0.5, 200.0,
            "E 3.0 MPa as simulated by DiSECt (NVlabs); nu 0.17, rho 787 kg/m^3; failure stress "
-           "0.32-0.37 MPa (Chakespari et al.); toughness chosen, above cucumber's"),
-      make("cucumber", 2.5e6, 0.37, 1000.0, 0.3e6, 0.5, 125.0,
-           "E 2.5 MPa, nu 0.37, rho 940-1100 kg/m^3, toughness 125 J/m^2, friction 0.5 (Jamdagni & "
-           "Jia, IROS 2019); yield chosen"),
-      make("potato", 2.0e6, 0.45, 630.0, 0.3e6, 0.6, 75.0,
-           "E 2.0 MPa, nu 0.45, toughness 75 J/m^2, friction 0.6 (Jamdagni & Jia, IROS 2019); rho 630 "
-           "kg/m^3 as simulated by DiSECt (NVlabs); yield chosen"),
+           "0.32-0.37 MPa (Chakespari et al.); toughness chosen (no reference to calibrate it against)"),
+      make("cucumber", 2.5e6, 0.37, 1000.0, 0.3e6, 0.5, 488.0,
+           "E 2.5 MPa, nu 0.37, rho 940-1100 kg/m^3, friction 0.5 (Jamdagni & Jia, IROS 2019; their "
+           "measured toughness 125 J/m^2); edge toughness 488 J/m^2 calibrated against DiSECt's LS-DYNA "
+           "cucumber half-cylinder (bench/lsdyna_calibration.py); yield chosen"),
+      make("potato", 2.0e6, 0.45, 630.0, 0.3e6, 0.6, 374.0,
+           "E 2.0 MPa, nu 0.45, friction 0.6 (Jamdagni & Jia, IROS 2019; their measured toughness 75 "
+           "J/m^2); rho 630 kg/m^3 as simulated by DiSECt (NVlabs); edge toughness 374 J/m^2 calibrated "
+           "against DiSECt's LS-DYNA potato prism (bench/lsdyna_calibration.py); yield chosen"),
       make("tomato", 0.4e6, 0.3, 1000.0, 0.1e6, 0.5, 130.0,
            "E 0.4 MPa, nu 0.3, toughness 130 J/m^2, puncture strength 100 kPa (Jamdagni & Jia, IROS "
            "2019); rho, yield and friction chosen"),

@@ -21,7 +21,8 @@ struct Material {
   // Fracture toughness G_c, J/m^2: the energy to open a unit area of cut. The knife's edge pushes
   // on the food with at most G_c per metre of edge in it (Atkins, "The Science and Engineering of
   // Cutting": F = G_c L + friction), so this, not dx, sets the edge's share of the force. 0: no edge
-  // resistance (the blade's faces alone push back).
+  // resistance (the blade's faces alone push back). The cucumber and potato presets hold an effective
+  // value calibrated against LS-DYNA cutting references (docs/physics_validation.md).
   double fracture_toughness_j_m2 = 100.0;
   std::string source;                 // where the numbers come from
 
