@@ -118,12 +118,13 @@ def _markdown(results: list[dict], machine: dict, quality: str) -> str:
               "The knife is slowed only by the food's measured wrench acting on the robot (joint torques J^T f), "
               "which the joint servo overcomes, and by the quadratic speed resistance u / (1 + k2 c-hat u dt) with "
               "k2 = 50 (E / 1 MPa) per (m/s) per s: at 5 cm/s and a 2 ms physics step that is under 0.1 % per step, "
-              "so the speed after impact does not follow E as the paper's does. Making the resistance come from the "
-              "measured force instead of a constant is part of the cutting-physics work still open.",
+              "so the speed after impact does not follow E as the paper's does.",
               "- Our peak force is what it takes to push the knife through the food: the edge pushes with at most "
-              "the food's fracture toughness G_c times the length of edge in it (125 J/m^2 times the cucumber's "
-              "4-5 cm width, about 5-6 N; docs/mpm.md), plus the faces' friction. E decides how far the food "
-              "gives before the edge cuts, not that force, so the peak stays near 6 N across the sweep. The paper's "
+              "the food's edge toughness G_c times the length of edge in it (the cucumber's 488 J/m^2, calibrated "
+              "against LS-DYNA references in docs/physics_validation.md, times its 4-5 cm width: about 20-24 N; "
+              "docs/mpm.md), plus the faces' friction. E decides how far the food gives before the edge cuts, not "
+              f"that force, so the peak stays at {min(r['peak_force_n'] for r in results):.1f}-"
+              f"{max(r['peak_force_n'] for r in results):.1f} N across the sweep. The paper's "
               "70-77 N, rising about 10 % with E, comes from a knife striking at policy speeds with a contact model "
               "it does not calibrate; we do not reproduce its absolute values, and the paper reports only the two "
               "end points, so the dashed lines join them straight."]
