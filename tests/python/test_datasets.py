@@ -179,7 +179,17 @@ def test_rdt_hdf5_and_statistics(dataset):
         with h5py.File(folder / f"{folder.name}.hdf5", "r") as file:
             n = file["action"].shape[0]
             assert file["observations/qpos"].shape[0] == n
-            assert sorted(file["observations/images"].keys()) == sorted(CAMERAS)
+            # Our cameras, and upstream's names linked to them (front is RDT's cam_high).
+            assert set(file["observations/images"].keys()) - {"cam_high", "cam_right_wrist"} == set(CAMERAS)
+            assert "cam_high" in file["observations/images"]
+            # RDT's reader decodes each frame's JPEG bytes with OpenCV: the recorded RGB comes back.
+            jpeg = file["observations/images/cam_high"][0]
+            decoded = cv2.imdecode(np.frombuffer(jpeg, np.uint8), cv2.IMREAD_COLOR)
+            index = int(folder.name.split("_")[1])
+            with h5py.File(dataset["export"]["robomimic"], "r") as robomimic:
+                recorded = robomimic[f"data/demo_{index}/obs/front_image"][0]
+            assert decoded.shape == recorded.shape
+            assert np.abs(decoded.astype(int) - recorded.astype(int)).mean() < 6.0  # JPEG at quality 95
             assert file.attrs["control_frequency_hz"] == 20.0
         instructions = json.loads((folder / "expanded_instruction_gpt-4-turbo.json").read_text())
         assert instructions["instruction"] and len(instructions["expanded_instruction"]) >= 5
