@@ -43,7 +43,7 @@ class Sweep:
     scales: tuple[float, ...] = (0.4, 0.8)
     youngs_modulus_mpa: tuple[float, ...] = (0.1, 1.0, 5.0)
     yield_stress_kpa: tuple[float, ...] = (20.0, 350.0)
-    fracture_toughness_j_m2: tuple[float, ...] = (50.0, 250.0)
+    fracture_toughness_j_m2: tuple[float, ...] = (50.0, 600.0)  # spans every preset, the calibrated ones too
     quality: str = "draft"
     # The knife: one vertical cut across the middle, starting just above the food (short cuts).
     knife: dict = field(default_factory=lambda: {"cut_fraction": 0.5, "start_above_top_m": 0.003,
