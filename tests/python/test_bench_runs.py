@@ -19,6 +19,7 @@ from pathlib import Path
 import pytest
 
 from conftest import start_server, stop_server
+from stored_runs import rows
 
 HERE = Path(__file__).resolve().parent
 # What must not differ between two runs of the same episodes (the same build, seeds and thread count).
@@ -58,15 +59,6 @@ def bench(*argv, timeout=600, check=True):
     if check:
         assert done.returncode == 0, f"exit {done.returncode}\n{done.stdout}\n{done.stderr}"
     return done
-
-
-def rows(folder: Path) -> list[dict]:
-    db = sqlite3.connect(folder / "results.sqlite")
-    db.row_factory = sqlite3.Row
-    try:
-        return [dict(r) for r in db.execute("SELECT * FROM episodes ORDER BY task, trial")]
-    finally:
-        db.close()
 
 
 def rows_so_far(folder: Path) -> list[dict]:

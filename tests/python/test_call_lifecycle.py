@@ -52,17 +52,19 @@ def test_a_step_past_its_deadline_is_not_applied():
         assert client.observe(session).stamp.frame_id == applied
 
 
-def test_sigterm_during_a_long_step_exits_within_2_s():
+def stop_during_a_long_step(signals: int) -> tuple[ServerProcess, int, float, list[Exception]]:
+    """A server whose one session runs a long Step on a thread; 0.5 s into it the server gets SIGTERM
+    `signals` times, 50 ms apart. Returns the stopped server, its exit code, the seconds from the first
+    signal to the exit, and what the stepping client raised."""
     server = ServerProcess(server_binary(), max_sessions=2)
+    errors: list[Exception] = []
     try:
         with Client(server.address, timeout_s=30.0) as client:
             session = client.create_session(SLOW_SCENE).session_id
             client.reset(session, seed=0)
             _, mode, values = approach_until_slow(server.address, session, deadline_s=1.0)
-            # The same slow step again, now without a short deadline, on a thread of its own.
-            errors: list[Exception] = []
 
-            def long_step():
+            def long_step():  # the same slow step again, now without a short deadline
                 try:
                     client.step(session, mode, values)
                 except CulinaryCutError as err:  # the server goes away mid-call
@@ -72,44 +74,31 @@ def test_sigterm_during_a_long_step_exits_within_2_s():
             stepping.start()
             time.sleep(0.5)
             started = time.monotonic()
-            server.proc.send_signal(signal.SIGTERM)
+            for index in range(signals):
+                if index:
+                    time.sleep(0.05)
+                server.proc.send_signal(signal.SIGTERM)
             code = server.proc.wait(timeout=10)
             elapsed = time.monotonic() - started
             stepping.join(timeout=10)
-        assert elapsed < 2.0, f"exit took {elapsed:.2f} s; output:\n{server.output()}"
-        assert stepping.is_alive() is False and errors, "the long step should have been cut short"
-        assert code == 0, server.output()
+            assert not stepping.is_alive()
+        return server, code, elapsed, errors
     finally:
         server.kill()
+
+
+def test_sigterm_during_a_long_step_exits_within_2_s():
+    server, code, elapsed, errors = stop_during_a_long_step(signals=1)
+    assert elapsed < 2.0, f"exit took {elapsed:.2f} s; output:\n{server.output()}"
+    assert errors, "the long step should have been cut short"
+    assert code == 0, server.output()
 
 
 def test_a_second_stop_signal_exits_at_once_during_a_long_step():
-    server = ServerProcess(server_binary(), max_sessions=2)
-    try:
-        with Client(server.address, timeout_s=30.0) as client:
-            session = client.create_session(SLOW_SCENE).session_id
-            client.reset(session, seed=0)
-            _, mode, values = approach_until_slow(server.address, session, deadline_s=1.0)
-            stepping = threading.Thread(target=lambda: _step_ignoring_errors(client, session, mode, values))
-            stepping.start()
-            time.sleep(0.5)
-            server.proc.send_signal(signal.SIGTERM)
-            time.sleep(0.05)
-            server.proc.send_signal(signal.SIGTERM)
-            code = server.proc.wait(timeout=10)
-            stepping.join(timeout=10)
-        # The second signal does not wait for the grace period: exit code 1 and the log says why.
-        assert code == 1, server.output()
-        assert "second stop signal" in server.output()
-    finally:
-        server.kill()
-
-
-def _step_ignoring_errors(client, session, mode, values):
-    try:
-        client.step(session, mode, values)
-    except CulinaryCutError:  # the server goes away mid-call
-        pass
+    server, code, _, _ = stop_during_a_long_step(signals=2)
+    # The second signal does not wait for the grace period: exit code 1 and the log says why.
+    assert code == 1, server.output()
+    assert "second stop signal" in server.output()
 
 
 def test_a_second_server_on_a_taken_port_fails_at_start():

@@ -15,6 +15,7 @@ import pytest
 from culinarycut.bench.episode_scene import episode_spec
 from culinarycut.bench.suite import SuiteError, load_suite
 from culinarycut.policies.registry import make_policy
+from stored_runs import rows
 
 # The scale-1 apple's predicted force (about 32 N) is above 15 N, so with every guard the speed guard's
 # v_safe is 0 and the knife is held at the food; with the limiter off the same scene is cut.
@@ -52,15 +53,6 @@ def bench(*argv, timeout=300, check=True) -> subprocess.CompletedProcess:
     if check:
         assert done.returncode == 0, f"exit {done.returncode}\n{done.stdout}\n{done.stderr}"
     return done
-
-
-def rows(folder: Path) -> list[dict]:
-    db = sqlite3.connect(folder / "results.sqlite")
-    db.row_factory = sqlite3.Row
-    try:
-        return [dict(r) for r in db.execute("SELECT * FROM episodes ORDER BY task, trial")]
-    finally:
-        db.close()
 
 
 def test_the_shipped_ablation_suite_pairs_off_and_on_and_passes_the_settings_into_the_scene():
