@@ -20,12 +20,14 @@ SCENE = {"quality": "draft",
 
 # Sealed snapshot: "CCSEAL01", HMAC-SHA256 tag (32 bytes) of the engine's bytes, the engine's bytes.
 # Engine bytes (sim/world/state_fields.h): magic (8), model fingerprint (8), has-food flag (1),
-# frame_id (8), sim_time_s (8), seed (8), episode_steps (4), three joint vectors of (uint32 length +
-# 7 doubles), then the food's particle arrays, each a count (uint64) and its values: position x, y, z
+# frame_id (8), sim_time_s (8), seed (8), episode_steps (4), the safety limiter's episode totals (3
+# uint64 interventions, 4 doubles, 1 bool), three joint vectors of (uint32 length + 7 doubles), then the
+# food's particle arrays, each a count (uint64) and its values: position x, y, z
 # (float32), velocity x, y, z, rest position x, y, z, F (9), C (9), mass, volume, plastic strain, damage (float32), piece
 # (int32), blade side (int8), cut sides (uint32), material (uint16), object (uint16).
 SEAL_HEADER = 8 + 32
-FOOD = 8 + 8 + 1 + 8 + 8 + 8 + 4 + 3 * (4 + 7 * 8)
+SAFETY = 3 * 8 + 4 * 8 + 1
+FOOD = 8 + 8 + 1 + 8 + 8 + 8 + 4 + SAFETY + 3 * (4 + 7 * 8)
 
 
 def engine_bytes(sealed: bytes) -> bytes:
