@@ -28,7 +28,9 @@ ROOT = Path(__file__).resolve().parents[1]
 # unseen-seeds (52 tasks: every style x state) as a sample of the big suite at draft quality.
 WORKLOADS = [("smoke", "smoke", []), ("unseen-seeds (cucumber, 1 trial per task)", "unseen-seeds",
                                        ["--tasks", "cucumber/*", "--trials", "1"])]
-SCALING_SERVERS = (1, 2, 4)
+# (servers, workers): one worker per server, plus one server with two workers, so that what two servers
+# add beyond running two episodes at once shows.
+SCALING = ((1, 1), (1, 2), (2, 2), (4, 4))
 
 
 def run_suite(suite: str, extra: list[str], servers: list[ServerProcess], workers: int, out: Path) -> dict:
@@ -62,15 +64,15 @@ def main() -> int:
     args = parser.parse_args()
     results = []
     with tempfile.TemporaryDirectory() as scratch:
-        servers = [ServerProcess(args.server_binary, max_sessions=8, idle_timeout_s=600) for _ in range(max(SCALING_SERVERS))]
+        servers = [ServerProcess(args.server_binary, max_sessions=8, idle_timeout_s=600) for _ in range(max(n for n, _ in SCALING))]
         try:
             for label, suite, extra in WORKLOADS:
                 result = run_suite(suite, extra, servers[:1], 2, Path(scratch) / f"{suite}-throughput")
                 results.append({"kind": "throughput", "label": label, **result})
                 print(json.dumps(results[-1]), flush=True)
-            for count in SCALING_SERVERS:
-                result = run_suite("smoke", [], servers[:count], count, Path(scratch) / f"smoke-{count}")
-                results.append({"kind": "scaling", "label": f"smoke, {count} servers x 1 worker each", **result})
+            for count, workers in SCALING:
+                result = run_suite("smoke", [], servers[:count], workers, Path(scratch) / f"smoke-{count}-{workers}")
+                results.append({"kind": "scaling", "label": f"smoke, {count} server(s), {workers} worker(s)", **result})
                 print(json.dumps(results[-1]), flush=True)
         finally:
             for server in servers:
@@ -99,8 +101,10 @@ def _markdown(machine: dict, results: list[dict]) -> str:
                      f"{100 * r['harness_share_in_episodes']:.2f} % | {100 * r['run_overhead_share']:.1f} % |")
     scaling = [r for r in results if r["kind"] == "scaling"]
     base = scaling[0]["run_wall_s"]
-    lines += ["", "Scaling (smoke suite; wall time of 1 server / wall time of N, measured in one run of this script): " +
-              ", ".join(f"{r['servers']} servers {base / r['run_wall_s']:.2f}x" for r in scaling) + ". "
+    lines += ["", "Scaling (smoke suite; wall time of 1 server with 1 worker / wall time of each, measured in one run "
+              "of this script): " +
+              ", ".join(f"{r['servers']} server(s) x {r['workers']} worker(s) {base / r['run_wall_s']:.2f}x"
+                        for r in scaling) + ". "
               f"The episodes are MPM-bound on the servers, so the speed-up stops at the machine's "
               f"{machine['cpu_count']} cores; the harness itself stays well under 5 % of episode time.", "",
               "*Harness share in episodes*: the client's time in an episode outside server calls and the policy "
