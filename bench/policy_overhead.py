@@ -30,9 +30,9 @@ from culinarycut_policies.rdt import RDTPolicy
 from culinarycut_policies.standins import example_statistics
 from culinarycut_policies.standins.process import StandinProcess
 
+from step_latency import machine_info  # bench/, this script's folder: the machine description every benchmark writes
+
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from step_latency import machine_info  # noqa: E402  (the machine description every benchmark writes)
 
 # name: (adapter class, stand-in model, transport, options that make it query every step)
 ADAPTERS = {

@@ -21,8 +21,7 @@ from pathlib import Path
 import numpy as np
 from culinarycut.safety.dataset import read_header, read_rows
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from step_latency import machine_info  # noqa: E402
+from step_latency import machine_info  # bench/, this script's folder
 
 ROOT = Path(__file__).resolve().parents[1]
 
