@@ -22,8 +22,7 @@ from pathlib import Path
 from culinarycut.datasets.store import GenerationStore
 from culinarycut.launch import ServerProcess
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from step_latency import machine_info  # noqa: E402  (the machine description every benchmark writes)
+from step_latency import machine_info  # bench/, this script's folder: the machine description every benchmark writes
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER_TRAJECTORIES = 325_000

@@ -22,8 +22,7 @@ from culinarycut.launch import ServerProcess, server_binary
 from culinarycut.policies import run_oracle_episode
 from culinarycut.scenes import cut_cucumber_scene
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from step_latency import machine_info  # noqa: E402
+from step_latency import machine_info  # bench/, this script's folder
 
 ROOT = Path(__file__).resolve().parents[1]
 YOUNGS_MPA = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9]

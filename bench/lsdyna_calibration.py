@@ -28,9 +28,8 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from physics_validation import WINDOW_S, render_doc, run  # noqa: E402
-from step_latency import machine_info  # noqa: E402
+from physics_validation import WINDOW_S, render_doc, run  # bench/, this script's folder
+from step_latency import machine_info
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT_JSON = ROOT / "docs" / "benchmarks" / "lsdyna_calibration.json"

@@ -25,8 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from step_latency import machine_info  # noqa: E402
+from step_latency import machine_info  # bench/, this script's folder
 
 ROOT = Path(__file__).resolve().parents[1]
 FOODS = ("cucumber", "apple", "banana")

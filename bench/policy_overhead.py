@@ -5,7 +5,7 @@ side in the same episode: every control step calls the adapter's act, then the e
 server with the adapter's cameras (256 x 256, draft cutting scene). Each adapter is set to query on every
 step; the stand-ins run in their own processes. Writes docs/benchmarks/policy_overhead.{md,json}.
 
-    PYTHONPATH=policies .venv/bin/python bench/policy_overhead.py [--steps 100 --rounds 3]
+    .venv/bin/python bench/policy_overhead.py [--steps 100 --rounds 3]
 """
 from __future__ import annotations
 
@@ -22,19 +22,17 @@ from culinarycut import Client, CulinaryCutEnv
 from culinarycut.bench.episode_scene import suite_episodes
 from culinarycut.bench.suite import load_suite
 from culinarycut.launch import ServerProcess, server_binary
+from culinarycut_policies.octo import OctoPolicy
+from culinarycut_policies.openpi import OpenPIPolicy
+from culinarycut_policies.openvla import OpenVLAPolicy
+from culinarycut_policies.openvla_oft import OpenVLAOFTPolicy
+from culinarycut_policies.rdt import RDTPolicy
+from culinarycut_policies.standins import example_statistics
+from culinarycut_policies.standins.process import StandinProcess
+
+from step_latency import machine_info  # bench/, this script's folder: the machine description every benchmark writes
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-sys.path.insert(0, str(ROOT / "policies"))
-from step_latency import machine_info  # noqa: E402  (the machine description every benchmark writes)
-
-from culinarycut_policies.octo import OctoPolicy  # noqa: E402
-from culinarycut_policies.openpi import OpenPIPolicy  # noqa: E402
-from culinarycut_policies.openvla import OpenVLAPolicy  # noqa: E402
-from culinarycut_policies.openvla_oft import OpenVLAOFTPolicy  # noqa: E402
-from culinarycut_policies.rdt import RDTPolicy  # noqa: E402
-from culinarycut_policies.standins import example_statistics  # noqa: E402
-from culinarycut_policies.standins.process import StandinProcess  # noqa: E402
 
 # name: (adapter class, stand-in model, transport, options that make it query every step)
 ADAPTERS = {

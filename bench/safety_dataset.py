@@ -19,13 +19,11 @@ from datetime import date
 from pathlib import Path
 
 import numpy as np
+from culinarycut.safety.dataset import read_header, read_rows
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from step_latency import machine_info  # noqa: E402
+from step_latency import machine_info  # bench/, this script's folder
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "client" / "python"))
-from culinarycut.safety.dataset import read_header, read_rows  # noqa: E402
 
 
 class LoadSampler:
@@ -53,9 +51,8 @@ def run_default_sweep(out: Path, workers: int, cc_cut: str | None) -> list[float
     command = [sys.executable, "-m", "culinarycut", "safety", "dataset", "--out", str(out), "--workers", str(workers)]
     if cc_cut:
         command += ["--cc-cut", cc_cut]
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT / "client" / "python"), os.environ.get("PYTHONPATH", "")])}
     with LoadSampler() as load:
-        subprocess.run(command, check=True, env=env)
+        subprocess.run(command, check=True)
     return load.samples
 
 

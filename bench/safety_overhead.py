@@ -23,8 +23,7 @@ import numpy as np
 from culinarycut import Client
 from culinarycut.launch import ServerProcess, server_binary
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from step_latency import machine_info  # noqa: E402  (the machine description every benchmark writes)
+from step_latency import machine_info  # bench/, this script's folder: the machine description every benchmark writes
 
 ROOT = Path(__file__).resolve().parents[1]
 TARGET_SHARE = 0.02  # the limiter should cost under 2 % of a robot-only step

@@ -20,8 +20,7 @@ import numpy as np
 from culinarycut import Client
 from culinarycut.launch import ServerProcess, server_binary
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from step_latency import machine_info  # noqa: E402  (the machine description every benchmark writes)
+from step_latency import machine_info  # bench/, this script's folder: the machine description every benchmark writes
 
 ROOT = Path(__file__).resolve().parents[1]
 PKI_SCRIPT = ROOT / "tests" / "support" / "make_test_pki.sh"

@@ -1,17 +1,15 @@
-"""Shared by the policy adapter tests: this tree's policies/ on sys.path, the stand-ins' example statistics,
-a one-task suite of short draft episodes."""
+"""Shared by the policy adapter tests: the stand-ins' example statistics, a one-task suite of short draft
+episodes. culinarycut_policies is the installed package (scripts/install_deps.sh installs policies/ into the
+project's .venv, editable)."""
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parents[2]
-POLICIES = REPO / "policies"
-if str(POLICIES) not in sys.path:
-    sys.path.insert(0, str(POLICIES))  # this tree's adapters, ahead of any installed copy
-
 # The example statistics the stand-ins come with (re-exported for the tests).
-from culinarycut_policies.standins.example_statistics import DELTA_KEY, RDT_KEY, write_statistics  # noqa: E402,F401
+from culinarycut_policies.standins.example_statistics import DELTA_KEY, RDT_KEY, write_statistics  # noqa: F401
+
+REPO = Path(__file__).resolve().parents[2]
+POLICIES = REPO / "policies"  # the package's sources (test_policy_episodes installs a copy of them)
 
 
 def write_suite(folder: Path, steps: int, trials: int = 1) -> Path:

@@ -5,7 +5,6 @@ checked against the adapters' own state functions and against the recorded targe
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 import sys
 
@@ -16,8 +15,6 @@ from culinarycut.datasets.episode_file import read_episode
 from culinarycut.datasets.generate import generate
 from culinarycut.datasets.jobs import DatasetConfig
 from culinarycut.datasets.store import GenerationStore
-
-import policy_support  # noqa: F401 (this tree's policies/ first on sys.path)
 from culinarycut_policies.actions import tcp_position_axis_angle
 from culinarycut_policies.octo import OctoPolicy
 from culinarycut_policies.openvla import OpenVLAPolicy
@@ -38,7 +35,7 @@ def exported(address, tmp_path_factory):
     assert summary.kept == 1
     # the CLI, as a user runs it
     subprocess.run([sys.executable, "-m", "culinarycut", "data", "export", str(root / "data"), "--out",
-                    str(root / "export")], check=True, env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)})
+                    str(root / "export")], check=True)
     with GenerationStore(root / "data") as store:
         meta, steps = read_episode(root / "data" / store.rows(kept_only=True)[0]["file"])
     return {"statistics": root / "export" / "dataset_statistics.json", "meta": meta, "steps": steps}

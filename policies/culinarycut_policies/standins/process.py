@@ -8,17 +8,14 @@ import subprocess
 import sys
 import threading
 import time
-from pathlib import Path
-
-PACKAGE_ROOT = Path(__file__).resolve().parents[2]  # the folder holding culinarycut_policies
 
 
 class StandinProcess:
     def __init__(self, model: str, *args: str):
-        path = os.pathsep.join(p for p in (str(PACKAGE_ROOT), os.environ.get("PYTHONPATH", "")) if p)
+        # This interpreter and its environment: they import the culinarycut_policies this process imports.
         self.proc = subprocess.Popen([sys.executable, "-m", "culinarycut_policies.standins", model, "--port", "0",
                                       "--log-queries", *args], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                     text=True, env={**os.environ, "PYTHONPATH": path})
+                                     text=True)
         first = self.proc.stdout.readline()
         if not first.startswith("listening on "):
             self.proc.kill()
