@@ -1,7 +1,8 @@
 """A small generated dataset (two planner episodes and one replay of a demonstration on a randomised
-object type), read back by readers that are not the writers: h5py for the HDF5 layouts, pyarrow's
-low-level ParquetFile against the LeRobot v2.1 spec, OpenCV's decoder for the videos; verify's replay
-and its detection of a truncated file; the same seed gives the same episode bytes."""
+object type), read back by readers that are not the writers: h5py for the HDF5 layouts, DuckDB for the
+LeRobot Parquet files (pyarrow writes them) with every column compared with the recorded episode, OpenCV's
+decoder for the videos; the LeRobot metadata checked against upstream LeRobot v2.1; verify's replay and its
+detection of a truncated file; the same seed gives the same episode bytes."""
 from __future__ import annotations
 
 import json
@@ -9,10 +10,9 @@ import shutil
 from pathlib import Path
 
 import cv2
+import duckdb
 import h5py
 import numpy as np
-import pyarrow as pa
-import pyarrow.parquet as pq
 import pytest
 from culinarycut import Client
 from culinarycut.datasets.demo import load_demonstration
@@ -112,47 +112,181 @@ def test_robomimic_hdf5_read_back(dataset):
         assert sorted(masks["train"] + masks["valid"]) == demos and not set(masks["train"]) & set(masks["valid"])
 
 
-def test_lerobot_v21_read_back(dataset):
+def _jsonl(path: Path) -> list[dict]:
+    return [json.loads(line) for line in path.read_text().splitlines()]
+
+
+def _recorded_episodes(dataset) -> list[tuple[dict, dict]]:
+    """(meta, steps) of the kept episodes, read from the episode files in the store's order."""
+    with GenerationStore(dataset["root"]) as store:
+        return [read_episode(dataset["root"] / row["file"]) for row in store.rows(kept_only=True)]
+
+
+# Upstream LeRobot v2.1 as openpi reads it: huggingface/lerobot at commit 0cf864870cf2 (openpi's pin),
+# files under lerobot/common/datasets/; each check below names the upstream file and constant or function.
+def test_lerobot_v21_metadata_matches_upstream(dataset):
     root = dataset["export"]["lerobot"]
+    # utils.py INFO_PATH, EPISODES_PATH, TASKS_PATH, EPISODES_STATS_PATH: the four metadata files
+    for name in ("meta/info.json", "meta/episodes.jsonl", "meta/tasks.jsonl", "meta/episodes_stats.jsonl"):
+        assert (root / name).is_file(), name
     info = json.loads((root / "meta" / "info.json").read_text())
-    assert info["codebase_version"] == "v2.1" and info["total_episodes"] == 3 and info["fps"] == 20.0
-    episodes = [json.loads(line) for line in (root / "meta" / "episodes.jsonl").read_text().splitlines()]
-    tasks = [json.loads(line) for line in (root / "meta" / "tasks.jsonl").read_text().splitlines()]
-    stats = [json.loads(line) for line in (root / "meta" / "episodes_stats.jsonl").read_text().splitlines()]
-    assert [e["episode_index"] for e in episodes] == [0, 1, 2] and len(stats) == 3
-    assert info["total_tasks"] == len(tasks) and sorted(t["task_index"] for t in tasks) == list(range(len(tasks)))
-    assert sum(e["length"] for e in episodes) == info["total_frames"]
+    episodes, tasks = _jsonl(root / "meta" / "episodes.jsonl"), _jsonl(root / "meta" / "tasks.jsonl")
+    stats = _jsonl(root / "meta" / "episodes_stats.jsonl")
+    # lerobot_dataset.py CODEBASE_VERSION
+    assert info["codebase_version"] == "v2.1"
+    # utils.py create_empty_dataset_info: the keys of every info.json (ours adds contact_phases)
+    assert set(info) - {"contact_phases"} == {"codebase_version", "robot_type", "total_episodes", "total_frames",
+                                              "total_tasks", "total_videos", "total_chunks", "chunks_size", "fps",
+                                              "splits", "data_path", "video_path", "features"}
+    # utils.py DEFAULT_CHUNK_SIZE
+    assert info["chunks_size"] == 1000
+    # utils.py DEFAULT_PARQUET_PATH
+    assert info["data_path"] == "data/chunk-{episode_chunk:03d}/episode_{episode_index:06d}.parquet"
+    # utils.py DEFAULT_VIDEO_PATH
+    assert info["video_path"] == "videos/chunk-{episode_chunk:03d}/{video_key}/episode_{episode_index:06d}.mp4"
+    # utils.py create_empty_dataset_info (fps: int; LeRobotDatasetMetadata.fps -> int)
+    assert type(info["fps"]) is int and info["fps"] == 20
+    assert isinstance(info["robot_type"], str)
     features = info["features"]
     video_keys = [k for k, f in features.items() if f["dtype"] == "video"]
+    # lerobot_dataset.py LeRobotDatasetMetadata.save_episode: the counters, splits and chunks it keeps
+    assert info["total_episodes"] == len(episodes) == 3 and info["total_frames"] == sum(e["length"] for e in episodes)
+    assert info["total_tasks"] == len(tasks) and info["total_videos"] == len(episodes) * len(video_keys)
+    assert info["splits"] == {"train": f"0:{len(episodes)}"} and info["total_chunks"] == 1
+    # utils.py DEFAULT_FEATURES: the five per-frame index features, exactly
+    for name, dtype in (("timestamp", "float32"), ("frame_index", "int64"), ("episode_index", "int64"),
+                        ("index", "int64"), ("task_index", "int64")):
+        assert features[name] == {"dtype": dtype, "shape": [1], "names": None}, name
+    # utils.py get_hf_features_from_features: a numpy dtype name and a 1-D shape for every non-video feature
+    for name, spec in features.items():
+        if spec["dtype"] == "video":
+            continue
+        assert set(spec) == {"dtype", "shape", "names"} and np.dtype(spec["dtype"]).name == spec["dtype"], name
+        assert len(spec["shape"]) == 1 and spec["shape"][0] >= 1, name
+        assert spec["names"] is None or len(spec["names"]) == spec["shape"][0], name  # one name per element
+    # utils.py dataset_to_policy_features: video shape (h, w, c) with names height, width, channels
     assert sorted(video_keys) == [f"observation.images.{c}" for c in sorted(CAMERAS)]
-    for name, spec in features.items():  # LeRobot: one name per element
-        if spec["dtype"] != "video":
-            assert spec["names"] is None or len(spec["names"]) == spec["shape"][0], name
-    assert info["contact_phases"][:3] == ["approach", "descend", "cut"]
-    index_start, referenced, task_by_index = 0, set(), {t["task_index"]: t["task"] for t in tasks}
+    for key in video_keys:
+        spec = features[key]
+        assert spec["shape"] == [SIZE, SIZE, 3] and spec["names"] == ["height", "width", "channels"], key
+        # video_utils.py get_video_info and get_audio_info: the keys of a video's info, fps an int
+        assert set(spec["info"]) == {"video.height", "video.width", "video.codec", "video.pix_fmt",
+                                     "video.is_depth_map", "video.fps", "video.channels", "has_audio"}, key
+        assert (spec["info"]["video.height"], spec["info"]["video.width"], spec["info"]["video.channels"]) == (
+            SIZE, SIZE, 3)
+        assert type(spec["info"]["video.fps"]) is int and spec["info"]["video.fps"] == info["fps"]
+        assert spec["info"]["video.is_depth_map"] is False and spec["info"]["has_audio"] is False
+    # lerobot_dataset.py LeRobotDatasetMetadata.save_episode: an episode row is episode_index, tasks, length
+    # (ours adds cut_spec, seed, source); utils.py load_episodes sorts them by episode_index
+    assert [e["episode_index"] for e in episodes] == list(range(len(episodes)))
     for episode in episodes:
-        chunk = episode["episode_index"] // info["chunks_size"]
-        path = root / info["data_path"].format(episode_chunk=chunk, episode_index=episode["episode_index"])
-        parquet = pq.ParquetFile(path)  # the low-level reader, column by column
-        schema = parquet.schema_arrow
-        assert parquet.metadata.num_rows == episode["length"]
-        assert set(schema.names) == {k for k in features if k not in video_keys}
-        for name in schema.names:
-            field, spec = schema.field(name), features[name]
-            if spec["shape"] == [1]:
-                assert not pa.types.is_list(field.type) and not pa.types.is_fixed_size_list(field.type), name
+        assert {"episode_index", "tasks", "length"} <= set(episode)
+        assert type(episode["length"]) is int and episode["length"] > 0
+        assert episode["tasks"] and all(isinstance(t, str) for t in episode["tasks"])
+    # utils.py write_task / load_tasks: {task_index, task}, indices 0..n-1, each task once (add_task)
+    assert all(set(t) == {"task_index", "task"} for t in tasks)
+    assert sorted(t["task_index"] for t in tasks) == list(range(len(tasks)))
+    assert len({t["task"] for t in tasks}) == len(tasks) == len({t for e in episodes for t in e["tasks"]})
+    # utils.py write_episode_stats: {episode_index, stats}, one row per episode
+    assert [s["episode_index"] for s in stats] == [e["episode_index"] for e in episodes]
+    assert all(set(s) == {"episode_index", "stats"} for s in stats)
+    for (meta, steps), episode, row in zip(_recorded_episodes(dataset), episodes, stats):
+        # compute_stats.py compute_episode_stats: stats of every feature
+        assert set(row["stats"]) == set(features)
+        for name, stat in row["stats"].items():
+            # compute_stats.py get_feature_stats: min, max, mean, std and count, count of shape (1,)
+            assert set(stat) == {"min", "max", "mean", "std", "count"}, name
+            assert len(stat["count"]) == 1 and stat["count"][0] >= 1, name
+            shapes = {k: np.asarray(v).shape for k, v in stat.items() if k != "count"}
+            if name in video_keys:
+                # compute_stats.py compute_episode_stats and _assert_type_and_shape: per channel (3, 1, 1) in [0, 1]
+                assert set(shapes.values()) == {(3, 1, 1)}, name
+                assert 0.0 <= np.min(stat["min"]) and np.max(stat["max"]) <= 1.0, name
             else:
-                assert pa.types.is_fixed_size_list(field.type) and field.type.list_size == spec["shape"][0], name
-                assert str(field.type.value_type) == {"float32": "float"}.get(spec["dtype"], spec["dtype"])
-        assert b"huggingface" in schema.metadata
-        table = parquet.read_row_group(0) if parquet.num_row_groups == 1 else parquet.read()
-        assert table.column("episode_index").to_pylist() == [episode["episode_index"]] * episode["length"]
-        assert table.column("frame_index").to_pylist() == list(range(episode["length"]))
-        assert table.column("index").to_pylist() == list(range(index_start, index_start + episode["length"]))
-        frame_tasks = [task_by_index[i] for i in table.column("task_index").to_pylist()]
-        assert frame_tasks == [episode["tasks"][f % len(episode["tasks"])] for f in range(episode["length"])]
-        referenced.update(frame_tasks)
-        index_start += episode["length"]
+                # compute_stats.py compute_episode_stats: over the frames, the feature's shape (keepdims for 1-D)
+                assert set(shapes.values()) == {tuple(features[name]["shape"])}, name
+                assert stat["count"] == [episode["length"]], name
+        actions = steps["actions"].astype(np.float32).astype(np.float64)
+        np.testing.assert_allclose(row["stats"]["action"]["mean"], actions.mean(0), rtol=1e-6, atol=1e-9)
+        np.testing.assert_allclose(row["stats"]["action"]["min"], actions.min(0))
+        np.testing.assert_allclose(row["stats"]["action"]["std"], actions.std(0), rtol=1e-6, atol=1e-9)
+        assert episode["tasks"] == list(meta["instructions"]) and episode["length"] == len(steps["actions"])
+
+
+def _duckdb_columns(path: Path) -> tuple[dict[str, list], dict[str, str], dict[bytes, bytes], int]:
+    """The Parquet file through DuckDB's own reader: values by column, column types, key-value metadata, rows."""
+    with duckdb.connect() as con:
+        relation = con.read_parquet(str(path))
+        names, types = relation.columns, [str(t) for t in relation.types]
+        rows = relation.fetchall()
+        metadata = dict(con.execute("SELECT key, value FROM parquet_kv_metadata(?)", [str(path)]).fetchall())
+        num_rows = con.execute("SELECT num_rows FROM parquet_file_metadata(?)", [str(path)]).fetchone()[0]
+    return {n: [row[i] for row in rows] for i, n in enumerate(names)}, dict(zip(names, types)), metadata, num_rows
+
+
+def test_lerobot_v21_read_back(dataset):
+    """Every Parquet column read back with DuckDB (not pyarrow, the writer) equals what the episode
+    recorded; every video decodes (OpenCV) to one frame per row."""
+    root = dataset["export"]["lerobot"]
+    info = json.loads((root / "meta" / "info.json").read_text())
+    episodes, tasks = _jsonl(root / "meta" / "episodes.jsonl"), _jsonl(root / "meta" / "tasks.jsonl")
+    features = info["features"]
+    video_keys = [k for k, f in features.items() if f["dtype"] == "video"]
+    task_index = {t["task"]: t["task_index"] for t in tasks}
+    duckdb_type = {"float32": "FLOAT", "int64": "BIGINT", "bool": "BOOLEAN"}
+    index_start, referenced = 0, set()
+    recorded = _recorded_episodes(dataset)
+    assert len(recorded) == len(episodes)
+    for episode, (meta, steps) in zip(episodes, recorded):
+        n, chunk = episode["length"], episode["episode_index"] // info["chunks_size"]
+        assert episode["seed"] == meta["seed"] and episode["tasks"] == list(meta["instructions"])
+        path = root / info["data_path"].format(episode_chunk=chunk, episode_index=episode["episode_index"])
+        columns, types, metadata, num_rows = _duckdb_columns(path)
+        assert num_rows == n == len(steps["actions"])
+        assert set(columns) == {k for k in features if k not in video_keys}
+        # The `datasets` description LeRobot loads the columns with (utils.py get_hf_features_from_features):
+        # a Value for shape (1,), a fixed-length Sequence otherwise.
+        described = json.loads(metadata[b"huggingface"])["info"]["features"]
+        for name, values in columns.items():
+            spec = features[name]
+            assert len(values) == n, name
+            if spec["shape"] == [1]:
+                assert types[name] == duckdb_type[spec["dtype"]], (name, types[name])
+                assert described[name] == {"dtype": spec["dtype"], "_type": "Value"}, name
+            else:
+                assert types[name] == f"{duckdb_type[spec['dtype']]}[]", (name, types[name])  # a Parquet LIST
+                assert all(len(v) == spec["shape"][0] for v in values), name
+                assert described[name] == {"feature": {"dtype": spec["dtype"], "_type": "Value"},
+                                           "length": spec["shape"][0], "_type": "Sequence"}, name
+        expected = {
+            "observation.state": np.concatenate([steps["obs/qpos"], steps["obs/tcp_pose"]], axis=1),
+            "observation.tcp_pose": steps["obs/tcp_pose"],
+            "observation.wrist_wrench": steps["obs/wrist_wrench"],
+            "action": steps["actions"],
+            "contact_phase": np.array([info["contact_phases"].index(p) for p in steps["phase"]]),
+            "knife_contact": steps["knife_contact"].astype(bool),
+            "next.reward": steps["rewards"],
+            "next.done": steps["dones"].astype(bool),
+            "timestamp": np.arange(n) / info["fps"],
+            "frame_index": np.arange(n),
+            "episode_index": np.full(n, episode["episode_index"]),
+            "index": np.arange(index_start, index_start + n),
+            # frame i prompts with instruction i mod the number of instructions
+            "task_index": np.array([task_index[meta["instructions"][f % len(meta["instructions"])]] for f in range(n)]),
+        }
+        assert set(expected) == set(columns), "a column is not compared"
+        for name, values in columns.items():
+            dtype = np.dtype(features[name]["dtype"])
+            got = np.array([list(v) for v in values] if features[name]["shape"] != [1] else values)
+            want = np.asarray(expected[name]).reshape(got.shape)
+            if dtype.kind == "f":  # float32 in the file: the recorded value rounded to float32, exactly
+                np.testing.assert_array_equal(got.astype(np.float32), want.astype(np.float32), err_msg=name)
+            else:
+                assert got.dtype.kind == ("b" if dtype.kind == "b" else "i"), name
+                np.testing.assert_array_equal(got, want, err_msg=name)
+        assert steps["dones"][-1] and columns["next.done"][-1] and not any(columns["next.done"][:-1])
+        referenced.update(tasks[i]["task"] for i in columns["task_index"])
+        index_start += n
         for key in video_keys:
             video = root / info["video_path"].format(episode_chunk=chunk, video_key=key,
                                                      episode_index=episode["episode_index"])
@@ -164,10 +298,8 @@ def test_lerobot_v21_read_back(dataset):
                     break
                 assert frame.shape == (SIZE, SIZE, 3)
                 frames += 1
-            assert frames == episode["length"], key
-        stat = stats[episode["episode_index"]]["stats"]
-        assert np.asarray(stat["observation.images.front"]["mean"]).shape == (3, 1, 1)
-        assert len(stat["action"]["mean"]) == features["action"]["shape"][0]
+            assert frames == n, key
+    assert index_start == info["total_frames"]
     # every instruction of every episode is a task, and frames prompt with each of them
     assert referenced == {t["task"] for t in tasks} == {t for e in episodes for t in e["tasks"]}
 

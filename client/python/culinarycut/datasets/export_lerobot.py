@@ -38,6 +38,12 @@ def _write_video(path: Path, frames: np.ndarray, fps: float) -> None:
     writer.release()
 
 
+def _json_fps(fps: float) -> int | float:
+    """LeRobot's info.json and video info carry fps as an integer (its create_empty_dataset_info and
+    get_video_info); a control rate that is not a whole number of hertz stays a float."""
+    return int(fps) if float(fps).is_integer() else fps
+
+
 def _vector_stats(values: np.ndarray) -> dict:
     values = values.reshape(len(values), -1).astype(np.float64)
     return {"min": values.min(0).tolist(), "max": values.max(0).tolist(), "mean": values.mean(0).tolist(),
@@ -86,7 +92,7 @@ def _features(columns: dict, steps: dict, control_mode: str, image_size: tuple, 
     for camera in camera_names(steps):
         features[f"observation.images.{camera}"] = {
             "dtype": "video", "shape": [height, width, 3], "names": ["height", "width", "channels"],
-            "info": {"video.fps": fps, "video.height": height, "video.width": width, "video.channels": 3,
+            "info": {"video.fps": _json_fps(fps), "video.height": height, "video.width": width, "video.channels": 3,
                      "video.codec": VIDEO_CODEC[1], "video.pix_fmt": "yuv420p", "video.is_depth_map": False,
                      "has_audio": False}}
     return features
@@ -151,7 +157,8 @@ def export_lerobot(root: Path, out: Path, robot_type: str = "panda") -> Path:
     cameras = sum(1 for f in info_features.values() if f["dtype"] == "video")
     info = {"codebase_version": CODEBASE_VERSION, "robot_type": robot_type, "total_episodes": len(episodes),
             "total_frames": total_frames, "total_tasks": len(tasks), "total_videos": len(episodes) * cameras,
-            "total_chunks": (len(episodes) - 1) // CHUNKS_SIZE + 1, "chunks_size": CHUNKS_SIZE, "fps": fps,
+            "total_chunks": (len(episodes) - 1) // CHUNKS_SIZE + 1, "chunks_size": CHUNKS_SIZE,
+            "fps": _json_fps(fps),
             "splits": {"train": f"0:{len(episodes)}"}, "data_path": DATA_PATH, "video_path": VIDEO_PATH,
             "features": info_features, "contact_phases": list(PHASES)}
     (out / "meta" / "info.json").write_text(json.dumps(info, indent=4))
