@@ -1,6 +1,7 @@
 """The safety limiter through a real server: the capability and the loaded force model in GetServerInfo,
 bad settings refused naming the field, a missing model refused as FAILED_PRECONDITION, a limited episode
-reporting its interventions in the env's info and the session stats, and the limiter off costing nothing."""
+reporting its interventions in the env's info and the session stats, the limiter off costing nothing, and
+an aggressive cut that still succeeds with the limiter on, held to v_safe and under F_max."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -136,3 +137,80 @@ def test_the_limiter_off_costs_nothing(safety_address):
     assert all("safety" not in info for info in infos)
     assert stats.stage_calls["safety"] == 0 and stats.stage_wall_time_s["safety"] == 0.0
     assert dict(stats.safety.interventions) == {}
+
+
+# A cut that succeeds with the limiter on. The engine's peak force is the food's toughness times the edge in
+# it, whatever the knife's speed: a preset 0.6-scale cucumber (calibrated toughness 488 J/m^2) peaked within
+# about 1 % of 12.5 N at knife speeds from 0.02 to 0.54 m/s, and at 13.5 N both with and without the limiter
+# here. So no F_max is passed without the limiter and kept with it while the cut still succeeds: under the
+# peak (13.0 or 13.4 N) the force guard holds the limited knife in the food and the cucumber stays whole
+# (the force still creeps to 13.4 N). What this shows instead is the speed guard. The test asset
+# F_hat = G L + 400 v sqrt(E) L grades v_safe with F_max (the shipped model is nearly flat in speed, so its
+# v_safe is all or nothing: docs/safety.md): at F_max 15 N v_safe is about 0.21 m/s, under the 0.55 m/s the
+# aggressive oracle's knife reaches in the food without the limiter, where F_hat is past F_max. With the
+# limiter the knife is held to v_safe (1 - margin), the force stays under F_max and the cucumber is cut in two.
+CUT_F_MAX_N = 15.0
+CUT_MARGIN = 0.1
+CUT_INSTRUCTION = "Make a normal cut through the cucumber at the middle"
+
+
+def cut_scene(limiter: bool) -> dict:
+    scene = {"quality": "draft", "objects": [{"food": "cucumber", "scale": 0.6}],
+             "effects": {**EFFECTS, "topology": True}, "task": {"instruction": CUT_INSTRUCTION},
+             "maxEpisodeSteps": 120}
+    if limiter:
+        scene["effects"]["safetyLimiter"] = True
+        scene["safety"] = {"maxForceN": CUT_F_MAX_N, "margin": CUT_MARGIN}
+    return scene
+
+
+def aggressive_cut(address: str, limiter: bool) -> dict:
+    """One episode of the aggressive oracle (the cut commanded at 3.6 m/s, as in the safety ablation) on
+    cut_scene(limiter), seed 0: the per-step limiter infos, the outcome and the session's safety totals."""
+    from culinarycut import Client
+    from culinarycut.policies.base import EpisodeSession
+    from culinarycut.policies.registry import make_policy
+    policy = make_policy("oracle-aggressive", {})
+    with Client(address) as client, \
+            CulinaryCutEnv(client=client, scene=cut_scene(limiter), control_mode=policy.control_mode) as env:
+        observation, info = env.reset(seed=0)
+        info.update(session=EpisodeSession(client, env.session_id), control_frequency_hz=1.0 / env.control_timestep)
+        policy.reset(CUT_INSTRUCTION, info)
+        safety_steps = []
+        for _ in range(120):
+            observation, _, terminated, truncated, info = env.step(policy.act(observation)[1])
+            if "safety" in info:
+                safety_steps.append(info["safety"])
+            if terminated or truncated or info["fail"] or policy.finished:
+                break
+        stats = env.client.session_stats(env.session_id)
+    return {"success": info["success"], "pieces": len(info["food"]["pieces"]), "safety_steps": safety_steps,
+            "stats": stats.safety}
+
+
+def test_with_the_limiter_a_fast_cut_succeeds_at_v_safe_under_f_max(safety_address):
+    off = aggressive_cut(safety_address, limiter=False)
+    on = aggressive_cut(safety_address, limiter=True)
+    # Off: the aggressive knife cuts the cucumber in two.
+    assert off["success"] and off["pieces"] == 2
+    assert off["safety_steps"] == [] and dict(off["stats"].interventions) == {}
+    # On: v_safe is graded (neither 0 nor the top of the model's range) and F_hat there is F_max.
+    assessed = [s for s in on["safety_steps"] if s["v_safe_m_s"] is not None]
+    v_safe = [s["v_safe_m_s"] for s in assessed]
+    assert assessed and 0.1 < min(v_safe) and max(v_safe) < 0.4, v_safe
+    assert all(abs(s["predicted_force_n"] - CUT_F_MAX_N) < 0.01 for s in assessed)
+    # Without the limiter the knife goes into the food well above v_safe: the model predicts more than F_max.
+    assert off["stats"].peak_cutting_speed_m_s > 2 * max(v_safe), (off["stats"].peak_cutting_speed_m_s, v_safe)
+    # The limiter acted: the speed guard bound on the steps into the food, each counted once.
+    acted = [s for s in on["safety_steps"] if s["acted"]]
+    assert len(acted) >= 3
+    assert all(s["guard_counts"]["speed"] == 1 and "above v_safe" in s["reason"] and s["target_scale"] < 1.0
+               and s["commanded_speed_m_s"] > (1 - CUT_MARGIN) * s["v_safe_m_s"] for s in acted)
+    assert max(s["commanded_speed_m_s"] for s in acted) > 1.0  # what the policy asked for before the limit
+    interventions = on["stats"].interventions
+    assert interventions["speed"] == len(acted) and interventions["force"] == interventions["entry_angle"] == 0
+    # ...and the cut still succeeded, the knife held to v_safe (1 - margin) and its force under F_max.
+    assert on["success"] and on["pieces"] == 2
+    assert on["stats"].peak_cutting_speed_m_s <= (1 - CUT_MARGIN) * max(v_safe)
+    assert on["stats"].peak_knife_force_n <= CUT_F_MAX_N
+    assert on["stats"].peak_knife_force_n > 5.0  # it did cut through the food, not stop at its surface
