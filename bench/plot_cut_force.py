@@ -42,12 +42,28 @@ def main() -> int:
     resolved = summary.get("resolved", {})
     dx = float(resolved.get("dx_m", 0.004))
     speed = abs(float(scene.get("knife", {}).get("descent_speed_m_s", 0.5)))
-    dt = float(column("dt_s")[0])
-    window = max(1, int(round(dx / speed / dt)))
+    window_s = dx / speed
+    dts = column("dt_s")  # substeps may differ in length (a fast particle shortens them): weight by dt
+
+    def averaged_over_window(values: list[float]) -> list[float]:
+        """Impulse over the last dx / v of time divided by that time, at every substep."""
+        out, start, impulse, time = [], 0, 0.0, 0.0
+        for i, (value, dt) in enumerate(zip(values, dts)):
+            impulse += value * dt
+            time += dt
+            while start < i and time - dts[start] >= window_s:
+                impulse -= values[start] * dts[start]
+                time -= dts[start]
+                start += 1
+            out.append(impulse / time)
+        return out
+
     fz = column("blade_fz_n")
-    averaged = [sum(fz[max(0, i - window + 1):i + 1]) / len(fz[max(0, i - window + 1):i + 1]) for i in range(len(fz))]
+    averaged = averaged_over_window(fz)
+    edge_averaged = averaged_over_window(column("edge_fz_n"))
     top.plot(t_ms, fz, color="tab:red", lw=0.6, alpha=0.5, label="blade, vertical, per substep (N)")
-    top.plot(t_ms, averaged, color="darkred", lw=1.6, label=f"blade, vertical, averaged over dx / v = {1e3 * window * dt:.0f} ms")
+    top.plot(t_ms, averaged, color="darkred", lw=1.6, label=f"blade, vertical, averaged over dx / v = {1e3 * window_s:.0f} ms")
+    top.plot(t_ms, edge_averaged, color="black", lw=1.0, ls=":", label="its edge's part (G_c L), averaged the same")
     # Across the blade is along the food's long axis (the blade's normal), whichever way the food lies.
     axis = resolved.get("food", {}).get("axis_direction", [1.0, 0.0, 0.0])
     across = [axis[0] * fx + axis[1] * fy for fx, fy in zip(column("blade_fx_n"), column("blade_fy_n"))]

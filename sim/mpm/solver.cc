@@ -112,6 +112,22 @@ double StableTimestep(const SolverModel& model, double collider_speed_m_s) {
   return std::min(dt_s, model.config.cfl * model.config.dx_m / collider_speed_m_s);
 }
 
+double StableTimestep(const SolverModel& model, double collider_speed_m_s, double particle_speed_m_s) {
+  return StableTimestep(model, std::max(collider_speed_m_s, particle_speed_m_s));
+}
+
+template <typename Real>
+double FastestParticleSpeed(const Particles<Real>& particles) {
+  double max_speed_sq = 0.0;  // (m/s)^2; std::max keeps it when a speed is NaN
+  for (std::size_t q = 0; q < particles.size(); ++q) {
+    max_speed_sq = std::max(max_speed_sq, SquaredSpeed(particles.velocity[0][q], particles.velocity[1][q],
+                                                       particles.velocity[2][q]));
+  }
+  return std::sqrt(max_speed_sq);
+}
+template double FastestParticleSpeed(const Particles<float>&);
+template double FastestParticleSpeed(const Particles<double>&);
+
 
 template <typename Real>
 SubstepContext Solver<Real>::MakeContext(double dt_s) const {
@@ -266,6 +282,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   diagnostics.damaged_particles = particle_totals.damaged;
   diagnostics.kinetic_energy_j = particle_totals.kinetic_energy;
   diagnostics.elastic_energy_j = particle_totals.elastic_energy;
+  diagnostics.fastest_particle_m_s = std::sqrt(particle_totals.max_speed_sq);
   diagnostics.c_hat = contact.c_hat;
   diagnostics.knife_velocity_m_s =
       context.knife_on ? knife_->motion().linear_velocity_m_s : Eigen::Vector3d::Zero();

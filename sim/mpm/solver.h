@@ -45,6 +45,9 @@ struct SubstepDiagnostics {
   std::int64_t damaged_particles = 0;  // particles whose damage grew this substep
   double kinetic_energy_j = 0.0;
   double elastic_energy_j = 0.0;
+  // The fastest particle's speed after the substep (m/s), the same bits as FastestParticleSpeed
+  // of the particles now: it bounds the next substep's length (StableTimestep).
+  double fastest_particle_m_s = 0.0;
   // Momentum balance: the food's momentum change against the sum of every impulse on it (N s):
   // gravity, damping, speed caps, tip force and the colliders; and their mismatch relative to the
   // larger of the collider impulse and the food's weight over the substep.
@@ -73,6 +76,15 @@ double StableTimestep(const SolverModel& model);
 // The same, and short enough that a collider moving at `collider_speed_m_s` crosses at most a CFL
 // fraction of a cell per substep (a knife faster than sound would otherwise jump past particles).
 double StableTimestep(const SolverModel& model, double collider_speed_m_s);
+// The same, and short enough that the fastest particle (`particle_speed_m_s`, e.g. the last
+// substep's SubstepDiagnostics::fastest_particle_m_s) moves at most a CFL fraction of a cell:
+// food flung faster than its sound would otherwise skip cells and contacts in one substep.
+double StableTimestep(const SolverModel& model, double collider_speed_m_s, double particle_speed_m_s);
+
+// The fastest particle's speed max |v| (m/s); NaN velocities are ignored. A scan in one thread,
+// giving the same bits as the substep's SubstepDiagnostics::fastest_particle_m_s.
+template <typename Real>
+double FastestParticleSpeed(const Particles<Real>& particles);
 
 template <typename Real>
 class Solver {

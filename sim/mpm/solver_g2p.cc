@@ -272,6 +272,8 @@ void Solver<Real>::GridToParticles(const SubstepContext& context, const ContactS
       for (int axis = 0; axis < 3; ++axis) totals.momentum[axis] += m * v[axis][l];
       const Real speed_sq = v[0][l] * v[0][l] + (v[1][l] * v[1][l] + v[2][l] * v[2][l]);
       totals.kinetic_energy += 0.5 * m * double(speed_sq);
+      // The fastest particle bounds the next substep's dt (StableTimestep with a particle speed).
+      totals.max_speed_sq = std::max(totals.max_speed_sq, SquaredSpeed(v[0][l], v[1][l], v[2][l]));
     }
   };
 

@@ -48,6 +48,7 @@ struct ParticleTotals {
   Eigen::Vector3d particle_impulse = Eigen::Vector3d::Zero();  // tip force and speed caps
   double kinetic_energy = 0.0;
   double elastic_energy = 0.0;
+  double max_speed_sq = 0.0;  // (m/s)^2, of the fastest particle after G2P: a max, so any order gives it
   double j_min = std::numeric_limits<double>::infinity();
   double j_max = -std::numeric_limits<double>::infinity();
   std::int64_t j_clamps = 0;
@@ -59,6 +60,7 @@ struct ParticleTotals {
     particle_impulse += other.particle_impulse;
     kinetic_energy += other.kinetic_energy;
     elastic_energy += other.elastic_energy;
+    max_speed_sq = std::max(max_speed_sq, other.max_speed_sq);
     j_min = std::min(j_min, other.j_min);
     j_max = std::max(j_max, other.j_max);
     j_clamps += other.j_clamps;
@@ -66,6 +68,15 @@ struct ParticleTotals {
     damaged += other.damaged;
   }
 };
+
+// |v|^2 (m/s)^2 of a particle, in double and in a fixed order. Products of floats are exact in
+// double, so a fused multiply-add rounds them as separate operations would: G2P's maximum and
+// FastestParticleSpeed's scan give the same bits whatever the compiler contracts.
+template <typename Real>
+inline double SquaredSpeed(Real vx, Real vy, Real vz) {
+  const double x = vx, y = vy, z = vz;
+  return (x * x + y * y) + z * z;
+}
 
 template <typename Totals>
 Totals SumChunks(const std::vector<Totals>& chunks) {

@@ -1,5 +1,6 @@
 #include "sim/world/food_step.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "sim/mpm/speed_resistance.h"
@@ -54,24 +55,44 @@ FoodStepReport AdvanceFood(const FoodModel& model, const Eigen::Isometry3d& tcp_
   // The fastest point of the knife: the TCP's speed plus the turn at the blade's far end.
   const double knife_reach_m = 0.5 * model.knife.blade_length_m + model.knife.blade_height_m;
   const double knife_speed_m_s = motion.linear_velocity_m_s.norm() + motion.angular_velocity_rad_s.norm() * knife_reach_m;
-  const int substeps = std::max(
-      1, static_cast<int>(std::ceil(duration_s / mpm::StableTimestep(*model.solver, knife_speed_m_s))));
-  const double dt_s = duration_s / substeps;
+  // Substeps short enough for sound, the knife's fastest point and the fastest particle: the step
+  // (or what is left of it) is split evenly into the fewest substeps that bound allows, and split
+  // again at the new bound when a particle speeds up past it, so the knife still ends at tcp_end.
+  // The particles' speed is scanned here rather than kept from the last step: a restored
+  // snapshot then chooses the same substeps.
+  double fastest_particle_m_s = mpm::FastestParticleSpeed(solver.particles());
+  auto substeps_for = [&](double time_s) {
+    const double dt_bound_s = mpm::StableTimestep(*model.solver, knife_speed_m_s, fastest_particle_m_s);
+    return std::max(1, static_cast<int>(std::ceil(time_s / dt_bound_s)));
+  };
+  double done = 0.0;                       // fraction of the step done before this stretch
+  int stretch = substeps_for(duration_s);  // even substeps in this stretch
+  int k = 0;                               // substeps taken of this stretch
+  int substeps = 0;
   double resistance_sum = 0.0;  // sum over substeps of k2 c-hat dt (1/(m/s)): the speed resistance
   double kinetic_energy_j = 0.0;
-  for (int k = 0; k < substeps; ++k) {
+  while (k < stretch) {
     if (cancelled && cancelled()) {
       report.cancelled = true;
       return report;
     }
-    motion.pose = Interpolate(tcp_start, tcp_end, (k + 0.5) / substeps);
+    const double dt_s = duration_s * (1.0 - done) / stretch;  // duration_s / stretch while done = 0
+    motion.pose = Interpolate(tcp_start, tcp_end, done + (1.0 - done) * (k + 0.5) / stretch);
     solver.SetKnifeMotion(motion);
     const mpm::SubstepDiagnostics d = solver.Substep(dt_s);
+    ++k;
+    ++substeps;
     state->wrench.force_n += (d.force_on_blade_n + d.force_on_handle_n) * (dt_s / duration_s);
     resistance_sum += mpm::SubstepResistance(d);
     report.max_c_hat = std::max(report.max_c_hat, d.c_hat);
     report.contact = report.contact || d.c_hat > 0.0 || d.force_on_blade_n.squaredNorm() > 0.0;
     kinetic_energy_j = d.kinetic_energy_j;
+    fastest_particle_m_s = d.fastest_particle_m_s;
+    if (k < stretch && dt_s > mpm::StableTimestep(*model.solver, knife_speed_m_s, fastest_particle_m_s)) {
+      done += (1.0 - done) * k / stretch;
+      stretch = substeps_for(duration_s * (1.0 - done));
+      k = 0;
+    }
   }
   report.substeps = substeps;
   state->substeps += substeps;

@@ -1,5 +1,5 @@
 // One physics step of the food: while the knife is near or the food still moves, MPM substeps at
-// the CFL time step with the knife collider following the robot's TCP from its pose at the start
+// the CFL time step (of sound, the knife's and the fastest particle's speed) with the knife collider following the robot's TCP from its pose at the start
 // of the step to its pose at the end; the blade and handle impulses give the wrench on the knife.
 #pragma once
 

@@ -72,7 +72,9 @@ CutSummary RunCut(const CutModel& model, const CutStepCallback& on_step) {
   const double fastest_knife_m_s = std::max({path.descent_speed_m_s, path.lift_speed_m_s,
                                              2.0 * M_PI * path.saw_frequency_hz * path.saw_amplitude_m});
   summary.dt_s = mpm::StableTimestep(*model.food.solver, fastest_knife_m_s);
-  const double dt = summary.dt_s;
+  summary.min_dt_s = summary.dt_s;
+  // ... and for the fastest particle, from the substep before (a scan for the first).
+  double fastest_particle_m_s = mpm::FastestParticleSpeed(solver.particles());
   KnifeState knife;
   knife.height_m = summary.start_height_m;
   knife.settle_left_s = path.settle_s;
@@ -87,6 +89,8 @@ CutSummary RunCut(const CutModel& model, const CutStepCallback& on_step) {
       summary.hit_time_limit = true;
       break;
     }
+    const double dt = mpm::StableTimestep(*model.food.solver, fastest_knife_m_s, fastest_particle_m_s);
+    summary.min_dt_s = std::min(summary.min_dt_s, dt);
     const bool descending = knife.phase == KnifeState::Phase::kDescending;
     const double phase_rad = 2.0 * M_PI * path.saw_frequency_hz * time_s;
     const double saw_m = descending ? path.saw_amplitude_m * std::sin(phase_rad) : 0.0;
@@ -108,6 +112,7 @@ CutSummary RunCut(const CutModel& model, const CutStepCallback& on_step) {
     record.knife_height_m = knife.height_m;
     record.diagnostics = solver.Substep(dt);
     const mpm::SubstepDiagnostics& d = record.diagnostics;
+    fastest_particle_m_s = d.fastest_particle_m_s;
     time_s += dt;
     record.time_s = time_s;
     ++summary.substeps;

@@ -28,7 +28,7 @@ using CutStepCallback = std::function<void(const CutStepRecord&)>;
 struct CutSummary {
   // What the scene resolved to.
   mpm::Material material;
-  double dt_s = 0.0;
+  double dt_s = 0.0;      // substep length for sound and the knife (s)
   std::size_t particles = 0;
   double food_length_m = 0.0;                               // along the long axis
   Eigen::Vector3d axis_origin_m = Eigen::Vector3d::Zero();  // the food's left end, on its axis
@@ -38,6 +38,7 @@ struct CutSummary {
   double end_height_m = 0.0;
   // What happened.
   int substeps = 0;
+  double min_dt_s = 0.0;  // shortest substep (s): below dt_s when a particle outran sound and knife
   double sim_time_s = 0.0;
   bool hit_time_limit = false;
   std::vector<mpm::Piece> pieces;

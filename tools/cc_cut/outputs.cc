@@ -103,6 +103,7 @@ json ResultJson(const CutSummary& s) {
   json cut_fractions = json::array();
   for (const double cut_m : s.cut_positions_m) cut_fractions.push_back(cut_m / s.food_length_m);
   return {{"substeps", s.substeps},
+          {"min_dt_s", s.min_dt_s},
           {"sim_time_s", s.sim_time_s},
           {"hit_time_limit", s.hit_time_limit},
           {"pieces", pieces},
@@ -141,7 +142,7 @@ void WriteStepsHeader(std::ostream& out) {
          "blade_fx_n,blade_fy_n,blade_fz_n,edge_fx_n,edge_fy_n,edge_fz_n,handle_fx_n,handle_fy_n,handle_fz_n,"
          "board_fx_n,board_fy_n,board_fz_n,table_fx_n,table_fy_n,table_fz_n,"
          "c_hat,speed_factor,j_min,j_max,j_clamps,speed_caps,damaged,"
-         "kinetic_energy_j,elastic_energy_j,momentum_residual\n";
+         "kinetic_energy_j,elastic_energy_j,momentum_residual,fastest_particle_m_s\n";
 }
 
 void WriteStepRow(const CutStepRecord& record, std::ostream& out) {
@@ -164,6 +165,7 @@ void WriteStepRow(const CutStepRecord& record, std::ostream& out) {
   Number(d.kinetic_energy_j, out);
   Number(d.elastic_energy_j, out);
   Number(d.momentum_residual, out);
+  Number(d.fastest_particle_m_s, out);
   out << '\n';
 }
 

@@ -41,6 +41,7 @@ struct CutResult {
   std::int64_t j_clamps = 0;
   std::int64_t speed_caps = 0;           // particle and node speeds capped, summed over substeps
   double max_knife_speed_m_s = 0.0;
+  double fastest_particle_m_s = 0.0;     // the fastest any particle moved after a substep
   std::int64_t broken_particles = 0;     // damage >= 0.9 at the end
   std::vector<double> blade_force_z_n;   // per substep
   std::vector<double> edge_force_z_n;    // per substep: the edge's part of the blade force
@@ -103,11 +104,13 @@ template <typename Real>
 CutResult RunCut(const CutScenario& scenario, Solver<Real>* solver) {
   CutResult result;
   solver->SetKnife(KnifeGeometry{});
-  // Short enough for sound and for the knife's fastest motion (descent, lift or saw).
+  // Short enough for sound, for the knife's fastest motion (descent, lift or saw) and for the
+  // fastest particle of the substep before, as cc-cut chooses it.
   const double fastest_knife_m_s =
       std::max({scenario.speed_m_s, scenario.lift_speed_m_s,
                 2.0 * M_PI * scenario.saw_frequency_hz * scenario.saw_amplitude_m});
-  const double dt = StableTimestep(SolverModel{solver->config(), solver->materials()}, fastest_knife_m_s);
+  const SolverModel model{solver->config(), solver->materials()};
+  double fastest_particle_m_s = FastestParticleSpeed(solver->particles());
   double height = scenario.start_height_m;
   double time_s = 0.0;
   bool lifting = false;
@@ -115,6 +118,7 @@ CutResult RunCut(const CutScenario& scenario, Solver<Real>* solver) {
   std::vector<double> forces;
   std::vector<double> residuals;
   while (true) {
+    const double dt = StableTimestep(model, fastest_knife_m_s, fastest_particle_m_s);
     RigidMotion motion;
     motion.pose.linear() =
         Eigen::AngleAxisd(scenario.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
@@ -131,6 +135,8 @@ CutResult RunCut(const CutScenario& scenario, Solver<Real>* solver) {
     result.max_knife_speed_m_s = std::max(result.max_knife_speed_m_s, motion.linear_velocity_m_s.norm());
     solver->SetKnifeMotion(motion);
     const SubstepDiagnostics d = solver->Substep(dt);
+    fastest_particle_m_s = d.fastest_particle_m_s;
+    result.fastest_particle_m_s = std::max(result.fastest_particle_m_s, fastest_particle_m_s);
     ++result.steps;
     const double force = d.force_on_blade_n.norm();
     forces.push_back(force);

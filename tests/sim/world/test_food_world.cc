@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include "sim/policy/scripted_oracle.h"
+#include "sim/world/food_step.h"
 #include "sim/world/observation.h"
 #include "sim/world/step.h"
 #include "support/robot_fixture.h"
@@ -49,6 +50,12 @@ CutTrace RunOracleCut(const Model& model, const std::string& instruction) {
   trace.pieces = state.food->pieces.size();
   trace.first_contact_frame = state.food->first_contact_frame;
   return trace;
+}
+
+double MeanX(const mpm::Particles<float>& particles) {  // m
+  double sum_m = 0.0;
+  for (const float x : particles.position[0]) sum_m += x;
+  return sum_m / particles.size();
 }
 
 }  // namespace
@@ -162,4 +169,53 @@ TEST_CASE("an episode's solver reads the model's settings and materials, never a
     CHECK(&state->food->solver->config() == &model->food->solver->config);
     CHECK(&state->food->solver->materials() == &model->food->solver->materials);
   }
+}
+
+TEST_CASE("food thrown faster than its sound takes shorter MPM substeps and its step still ends on time",
+          "[food_world]") {
+  SceneConfig config = CucumberScene(false);
+  config.foods[0].material_overrides["youngs_modulus_pa"] = 5e3;  // sound slower than the throw
+  const auto model = CompileModel(config, testing::Panda());
+  const mpm::SolverModel& solver_model = *model->food->solver;
+  const double speed_m_s = 10.0;
+  REQUIRE(solver_model.materials[0].dilatational_wave_speed_m_s() < 0.5 * speed_m_s);
+  const double duration_s = model->physics_timestep_s;
+  // The knife 1 m above the food, still; the food awake, so MPM runs for it alone.
+  Eigen::Isometry3d knife = Eigen::Isometry3d::Identity();
+  knife.translation() = Eigen::Vector3d(0.5, 0.0, 1.0);
+  auto fresh_food = [&](State* state) {
+    ResetState(*model, state, 0, {});
+    state->food->awake = true;
+  };
+  auto throw_sideways = [&](FoodState* food) {
+    for (float& v : food->solver->particles().velocity[0]) v = static_cast<float>(speed_m_s);
+  };
+  const int at_rest = static_cast<int>(std::ceil(duration_s / mpm::StableTimestep(solver_model)));
+  // Thrown before the step: every substep at most a CFL fraction of a cell at 10 m/s.
+  const double cfl_dx_m = solver_model.config.cfl * solver_model.config.dx_m;
+  const int thrown_substeps = static_cast<int>(std::ceil(duration_s * speed_m_s / cfl_dx_m));
+  REQUIRE(thrown_substeps > at_rest + 1);
+  REQUIRE(at_rest >= 2);  // a step of one substep has nothing left to split again
+  State resting, thrown, mid_step;
+  fresh_food(&resting);
+  CHECK(AdvanceFood(*model->food, knife, knife, duration_s, resting.food.get()).substeps == at_rest);
+  fresh_food(&thrown);
+  throw_sideways(thrown.food.get());
+  const FoodStepReport report = AdvanceFood(*model->food, knife, knife, duration_s, thrown.food.get());
+  CHECK(report.substeps >= thrown_substeps);  // gravity adds a little speed
+  CHECK(report.substeps <= thrown_substeps + 1);
+  // Thrown once the step has chosen its substeps (by the cancel check, asked before each substep):
+  // the first substep is as long as at rest; then the rest of the step is split again at the
+  // shorter bound, and the step still covers its whole duration.
+  fresh_food(&mid_step);
+  int asked = 0;
+  const FoodStepReport split = AdvanceFood(*model->food, knife, knife, duration_s, mid_step.food.get(), [&] {
+    if (++asked == 1) throw_sideways(mid_step.food.get());
+    return false;
+  });
+  CHECK(split.substeps == asked);
+  CHECK(split.substeps >= 1 + static_cast<int>(std::ceil(duration_s * (1.0 - 1.0 / at_rest) * speed_m_s / cfl_dx_m)));
+  // Its substeps add up to the step: it flew at 10 m/s (less a little board friction) for all of it.
+  const double flown_m = MeanX(mid_step.food->solver->particles()) - MeanX(resting.food->solver->particles());
+  CHECK(flown_m == Approx(speed_m_s * duration_s).epsilon(0.01));
 }

@@ -1,0 +1,128 @@
+// Damaged corotated elasticity (constitutive.h, stress_batch.h): damage D scales shear and volume
+// growth by 1 - D but keeps the volumetric term lambda (J - 1) J under compression, so broken
+// food still resists being squeezed and carries no tension or shear.
+#include <cmath>
+#include <utility>
+
+#include <catch2/catch.hpp>
+
+#include "cut_scenario.h"
+#include "mpm_fixtures.h"
+#include "sim/mpm/constitutive.h"
+#include "sim/mpm/solver.h"
+#include "sim/mpm/stress_batch.h"
+
+namespace culinarycut::mpm {
+namespace {
+
+using Matrix = Matrix3<double>;
+
+// Kirchhoff stress (Pa) of a particle with deformation F and damage D, on the scalar path.
+Matrix Stress(const Material& material, const Matrix& F, double damage) {
+  const double J = F.determinant();
+  const Lame<double> lame = DamagedLame(material.shear_modulus_pa(), material.lame_lambda_pa(), damage, J);
+  return CorotatedKirchhoffStress<double>(F, PolarRotation(F), J, lame);
+}
+
+// The same on the batched path, with the Lame parameters as the solver's stress pass gives them
+// (solver_stress.cc: mu and lambda times 1 - D, lambda undamaged where J < 1); mass 0 and a unit
+// volume scale make the affine matrix the stress itself.
+Matrix BatchStress(const Material& material, const Matrix& F, double damage) {
+  double F_lanes[9][1], R_lanes[9][1], C[9][1] = {}, affine[9][1];
+  const Matrix R = PolarRotation(F);
+  for (int k = 0; k < 9; ++k) {
+    F_lanes[k][0] = F(k / 3, k % 3);
+    R_lanes[k][0] = R(k / 3, k % 3);
+  }
+  const double mu[1] = {material.shear_modulus_pa() * (1.0 - damage)};
+  const double lambda_stretched[1] = {material.lame_lambda_pa() * (1.0 - damage)};
+  const double lambda_compressed[1] = {material.lame_lambda_pa()};
+  const double volume_scale[1] = {1.0}, mass[1] = {0.0}, volume[1] = {1.0};
+  double energy[1];
+  CorotatedAffineBatch<double, 1>(F_lanes, R_lanes, C, mu, lambda_stretched, lambda_compressed,
+                                  volume_scale, mass, volume, affine, energy);
+  Matrix tau;
+  for (int k = 0; k < 9; ++k) tau(k / 3, k % 3) = affine[k][0];
+  return tau;
+}
+
+double Pressure(const Matrix& tau) { return -tau.trace() / 3.0; }  // Kirchhoff pressure, Pa
+Matrix Deviator(const Matrix& tau) { return tau - Matrix::Identity() * (tau.trace() / 3.0); }
+
+TEST_CASE("a fully damaged particle keeps its volumetric pressure under compression", "[mpm][constitutive]") {
+  const Material material = testing::SoftMaterial(1e6, 0.3);
+  const double lambda_pa = material.lame_lambda_pa();
+  const double mu_pa = material.shear_modulus_pa();
+  // 2 % squeezed along z and 1 % along x: a compression with shear in it, J = 0.970.
+  const Matrix F = Eigen::Vector3d(0.99, 1.0, 0.98).asDiagonal().toDenseMatrix();
+  const double J = F.determinant();
+  REQUIRE(J < 1.0);
+  const Matrix intact = Stress(material, F, 0.0);
+  for (const double damage : {0.5, 0.9, 1.0}) {
+    INFO("D = " << damage);
+    const Matrix damaged = Stress(material, F, damage);
+    // The volumetric term is the undamaged one's, whatever D: lambda (J - 1) J, Pa.
+    const double volumetric_pa = -lambda_pa * (J - 1.0) * J;
+    CHECK(Pressure(damaged) == Approx(volumetric_pa + (1.0 - damage) * (Pressure(intact) - volumetric_pa)));
+    CHECK(Pressure(damaged) > 0.0);
+    // The shear part is softened by 1 - D.
+    CHECK((Deviator(damaged) - (1.0 - damage) * Deviator(intact)).norm() < 1e-9 * Deviator(intact).norm());
+    CHECK((BatchStress(material, F, damage) - damaged).norm() < 1e-9 * damaged.norm());
+  }
+  // Broken through (D = 1): a pure pressure, lambda / (lambda + 2 mu / 3) = 0.69 of the intact
+  // one at nu = 0.3 (the corotated 2 mu (F - R) F^T term also resists volume change; it goes).
+  const Matrix broken = Stress(material, F, 1.0);
+  CHECK(Deviator(broken).norm() < 1e-9 * broken.norm());
+  CHECK(Pressure(broken) / Pressure(intact) == Approx(lambda_pa / (lambda_pa + 2.0 * mu_pa / 3.0)).epsilon(0.02));
+}
+
+TEST_CASE("a fully damaged particle carries no tension and no shear", "[mpm][constitutive]") {
+  const Material material = testing::SoftMaterial(1e6, 0.3);
+  const Matrix stretched = Eigen::Vector3d(1.0, 1.0, 1.02).asDiagonal().toDenseMatrix();  // J = 1.02
+  Matrix sheared = Matrix::Identity();
+  sheared(0, 1) = 0.05;  // simple shear, J = 1
+  for (const Matrix& F : {stretched, sheared}) {
+    const Matrix intact = Stress(material, F, 0.0);
+    REQUIRE(intact.norm() > 1e3);  // Pa: the intact particle does resist
+    CHECK((Stress(material, F, 0.5) - 0.5 * intact).norm() < 1e-9 * intact.norm());
+    CHECK(Stress(material, F, 1.0).norm() == 0.0);
+    CHECK(BatchStress(material, F, 1.0).norm() == 0.0);
+    CHECK((BatchStress(material, F, 0.5) - 0.5 * intact).norm() < 1e-9 * intact.norm());
+  }
+}
+
+// The lowest J and the J clamps of a fully damaged 4 x 4 x 2 cm block of E 50 kPa left on the
+// board under gravity for 50 ms.
+std::pair<double, std::int64_t> DamagedBlockUnderGravity(double poisson) {
+  SolverConfig config;
+  Solver<float> solver(config, {testing::SoftMaterial(5e4, poisson)});
+  testing::AddBlock<float>({0.48, -0.02, 0.02}, {0.52, 0.02, 0.04}, config.dx_m, 2, 1000.0, &solver.particles());
+  testing::AddBoardAndTable(&solver);
+  for (auto& damage : solver.particles().damage) damage = 1.0f;
+  const double dt_s = solver.StableTimestep();
+  double j_min = 1.0;
+  std::int64_t j_clamps = 0;
+  for (double t_s = 0.0; t_s < 0.05; t_s += dt_s) {
+    const SubstepDiagnostics d = solver.Substep(dt_s);
+    j_min = std::min(j_min, d.j_min);
+    j_clamps += d.j_clamps;
+  }
+  return {j_min, j_clamps};
+}
+
+TEST_CASE("a fully damaged block on the board is not crushed by its own weight", "[mpm][constitutive]") {
+  // Broken food has no shear stiffness, so it slumps like a liquid, but it keeps lambda against
+  // compression: J stays near 1 - rho g h / lambda = 0.993 (static) instead of falling to j_min.
+  const auto [j_min, j_clamps] = DamagedBlockUnderGravity(0.3);
+  // With nu = 0 (lambda = 0) the broken block has nothing left against compression: the check
+  // above tells the two apart.
+  const auto [j_min_no_lambda, j_clamps_no_lambda] = DamagedBlockUnderGravity(0.0);
+  INFO("nu 0.3: J min " << j_min << ", clamps " << j_clamps << "; nu 0: J min " << j_min_no_lambda
+                        << ", clamps " << j_clamps_no_lambda);
+  CHECK(j_clamps == 0);
+  CHECK(j_min > 0.9);
+  CHECK(j_min_no_lambda < 0.9);
+}
+
+}  // namespace
+}  // namespace culinarycut::mpm
