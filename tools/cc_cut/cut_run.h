@@ -59,6 +59,9 @@ struct CutSummary {
   std::int64_t speed_caps = 0;
   std::size_t broken_particles = 0;  // damage >= topology.broken_damage at the end
   double min_speed_factor = 1.0;     // slowest descent speed / descent_speed_m_s
+  // The food's kinetic over its elastic energy, each integrated over the substeps the blade pushes
+  // on it: mass scaling (sim/mpm/solver_config.h) stays quasi-static while this is small (< 0.1).
+  double kinetic_to_elastic_energy = 0.0;
   // Wall time (ms).
   double compile_ms = 0.0;  // the food model, sampling included
   double setup_ms = 0.0;
