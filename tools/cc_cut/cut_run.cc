@@ -4,6 +4,8 @@
 #include <chrono>
 #include <deque>
 #include <cmath>
+#include <fstream>
+#include <string>
 
 #include "sim/core/stage_timer.h"
 #include "sim/mpm/speed_resistance.h"
@@ -45,6 +47,20 @@ void ResolvePath(const CutModel& model, CutSummary* summary) {
                                  : path.cut_fraction.value_or(0.5) * axis.length_m;
   summary->start_height_m = task::TopZ(food) + path.start_above_top_m;
   summary->end_height_m = task::BottomZ(food) - path.end_below_bottom_m;
+}
+
+}  // namespace
+
+namespace {
+
+// This process's peak resident memory (MB): VmHWM of /proc/self/status, which, unlike getrusage's
+// maxrss, does not carry the parent's memory over the fork and exec that started us. 0 off Linux.
+double PeakResidentMegabytes() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);) {
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;  // kB
+  }
+  return 0.0;
 }
 
 }  // namespace
@@ -196,6 +212,7 @@ CutSummary RunCut(const CutModel& model, const CutStepCallback& on_step) {
     summary.particle_steps_per_s =
         double(summary.particles) * summary.substeps / (substep_ms * 1e-3);
   }
+  summary.peak_memory_mb = PeakResidentMegabytes();
   return summary;
 }
 

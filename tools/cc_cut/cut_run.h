@@ -71,6 +71,7 @@ struct CutSummary {
   double topology_ms = 0.0;
   double total_ms = 0.0;  // compilation, substeps and topology
   double particle_steps_per_s = 0.0;  // particles x substeps / substep wall time
+  double peak_memory_mb = 0.0;        // the process's peak resident memory (Linux; else 0)
 };
 
 // Resets the food as a server episode does, runs the cut and detects the pieces. `on_step` (may be

@@ -133,7 +133,8 @@ json ResultJson(const CutSummary& s) {
             {"g2p", s.g2p_ms},
             {"topology", s.topology_ms},
             {"total", s.total_ms}}},
-          {"particle_steps_per_s", s.particle_steps_per_s}};
+          {"particle_steps_per_s", s.particle_steps_per_s},
+          {"peak_memory_mb", s.peak_memory_mb}};
 }
 
 }  // namespace
