@@ -59,7 +59,8 @@ def run(cc_cut: Path, spec: dict, workdir: Path) -> dict:
     started = time.perf_counter()
     subprocess.run([str(cc_cut), str(scene_file), "--out", str(out), "--threads", "1", "--quiet"], check=True)
     wall_s = time.perf_counter() - started
-    summary = json.loads((out / "summary.json").read_text())["summary"]
+    written = json.loads((out / "summary.json").read_text())
+    summary = written["summary"]
     with open(out / "steps.csv") as f:
         rows = list(csv.DictReader(f))
     col = {k: np.array([float(r[k]) for r in rows])
@@ -82,7 +83,10 @@ def run(cc_cut: Path, spec: dict, workdir: Path) -> dict:
             "cut_fraction": summary["cut_fractions"][0] if summary["cut_fractions"] else None,
             "j_clamps": summary["j_clamps"], "speed_caps": summary["speed_caps"],
             "substeps": summary["substeps"], "particles": sum(p["particles"] for p in summary["pieces"]),
-            "wall_s": wall_s}
+            "wall_s": wall_s, "sim_time_s": summary["sim_time_s"], "max_rss_mb": summary["peak_memory_mb"],
+            "cut_fractions": summary["cut_fractions"], "food_length_m": written["resolved"]["food"]["length_m"],
+            "piece_volumes_m3": sorted(p["volume_m3"] for p in summary["pieces"]),
+            "kinetic_to_elastic_energy": summary.get("kinetic_to_elastic_energy")}
 
 
 def main() -> int:

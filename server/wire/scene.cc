@@ -87,6 +87,7 @@ SceneConfig SceneFromWire(const v1::SceneSpec& wire) {
     config.mpm.particles_per_cell = CountFromWire(mpm.particles_per_cell(), 1000, "scene.mpm.particles_per_cell");
   }
   if (mpm.cfl() != 0) config.mpm.cfl = FiniteFromWire(mpm.cfl(), "scene.mpm.cfl");
+  if (mpm.mass_scaling() != 0) config.mpm.mass_scaling = FiniteFromWire(mpm.mass_scaling(), "scene.mpm.mass_scaling");
   config.seed = wire.seed();
   if (!wire.quality().empty()) config.quality = TextFromWire(wire.quality(), "scene.quality");
   config.max_episode_steps = wire.max_episode_steps();
@@ -169,6 +170,7 @@ void ResolvedFoodToWire(const FoodModel& food, v1::SceneSpec* wire) {
   wire->mutable_mpm()->set_dx(food.resolution.dx_m);
   wire->mutable_mpm()->set_particles_per_cell(static_cast<std::uint32_t>(food.resolution.particles_per_cell));
   wire->mutable_mpm()->set_cfl(food.resolution.cfl);
+  wire->mutable_mpm()->set_mass_scaling(food.resolution.mass_scaling);
   for (int i = 0; i < wire->objects_size() && i < static_cast<int>(food.objects.size()); ++i) {
     PoseToWire(food.objects[i].pose, wire->mutable_objects(i)->mutable_pose());
     if (food.solver->materials[i].name != wire->objects(i).material() && wire->objects(i).material().empty()) {

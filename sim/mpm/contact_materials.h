@@ -20,7 +20,7 @@ struct ContactMaterial {
   double board_friction = 0.5;  // Coulomb, board and table
   double k2_per_s = 0.0;        // quadratic speed resistance of the knife in this food (1 / (m/s) / s)
   double toughness_j_m2 = 0.0;  // G_c: the most the edge pushes with, per metre of edge (N/m)
-  double density_kg_m3 = 1000.0;  // to tell how full a node at the edge is (its mass / rho dx^3)
+  double density_kg_m3 = 1000.0;  // inertial (times the mass scaling): how full an edge node is, mass / rho dx^3
 };
 
 // The paper's speed-resistance constant: k2 = k2_0 (E / E_ref)(1 + sigma_y / sigma_y,ref).
@@ -32,11 +32,12 @@ inline double SpeedResistance(const Material& material, const CuttingParameters&
 class ContactMaterials {
  public:
   ContactMaterials() = default;
-  ContactMaterials(const std::vector<Material>& materials, const CuttingParameters& cutting) {
+  ContactMaterials(const std::vector<Material>& materials, const CuttingParameters& cutting,
+                   double mass_scaling = 1.0) {
     for (const Material& material : materials) {
       table_.push_back({material.friction_coefficient, material.board_friction_coefficient,
                         SpeedResistance(material, cutting), material.fracture_toughness_j_m2,
-                        material.density_kg_m3});
+                        mass_scaling * material.density_kg_m3});
     }
     uniform_ = std::all_of(table_.begin(), table_.end(), [&](const ContactMaterial& m) {
       return m.knife_friction == table_[0].knife_friction && m.board_friction == table_[0].board_friction &&

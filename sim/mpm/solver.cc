@@ -24,6 +24,7 @@ void ValidateSolverConfig(const SolverConfig& config) {
           "speed caps must be > 0");
   require(config.grid_damping_per_s >= 0.0, "grid_damping_per_s must be >= 0");
   require(config.gravity_m_s2.allFinite(), "gravity must be finite");
+  require(config.mass_scaling >= 1.0 && config.mass_scaling <= 1e4, "mass_scaling must lie in [1, 1e4]");
   require(config.grid_margin_cells >= 1, "grid_margin_cells must be >= 1");
   require(config.threads >= 1, "threads must be >= 1");
   const CuttingParameters& cutting = config.cutting;
@@ -103,6 +104,7 @@ double StableTimestep(const SolverModel& model) {
   for (const Material& material : model.materials) {
     fastest_m_s = std::max(fastest_m_s, material.dilatational_wave_speed_m_s());
   }
+  fastest_m_s /= std::sqrt(model.config.mass_scaling);  // c = sqrt(M / (s rho))
   return std::min(model.config.max_dt_s, model.config.cfl * model.config.dx_m / fastest_m_s);
 }
 
@@ -300,7 +302,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
         collider_impulse + grid_totals.other_impulse + particle_totals.particle_impulse;
     // Relative to the larger of the contact impulse and the food's weight over the substep.
     const double scale = std::max(collider_impulse.norm(),
-                                  grid_totals.mass * config().gravity_m_s2.norm() * dt_s);
+                                  grid_totals.mass * config().weight_acceleration_m_s2().norm() * dt_s);
     diagnostics.momentum_residual =
         scale > 0.0
             ? (diagnostics.momentum_change_n_s - diagnostics.external_impulse_n_s).norm() / scale

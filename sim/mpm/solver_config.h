@@ -49,10 +49,18 @@ struct SolverConfig {
   double max_grid_speed_m_s = 20.0;
   double grid_damping_per_s = 0.0;      // mild velocity damping on the grid (0 = none)
   Eigen::Vector3d gravity_m_s2{0.0, 0.0, -9.81};
+  // Mass scaling (the quasi-static device of explicit codes such as LS-DYNA): the food's inertia is
+  // this many times its real mass, so the wave speed falls by sqrt(s) and the stable dt grows by it,
+  // while its weight stays real (gravity acts on the scaled mass as g / s). Valid while the food's
+  // kinetic energy stays small against its elastic energy; 1 = off.
+  double mass_scaling = 1.0;
   int grid_margin_cells = 3;            // empty cells around the particles' bounding box
   int threads = 1;                      // OpenMP threads; results do not depend on it
   Effects effects;
   CuttingParameters cutting;
+
+  // What gravity does to the scaled mass: real weight, g / s of acceleration.
+  Eigen::Vector3d weight_acceleration_m_s2() const { return gravity_m_s2 / mass_scaling; }
 };
 
 }  // namespace culinarycut::mpm

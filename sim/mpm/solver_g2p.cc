@@ -201,8 +201,9 @@ void Solver<Real>::GridToParticles(const SubstepContext& context, const ContactS
       if (tip_on && blade_side[q] != 0 &&
           std::abs(knife_->HeightAboveEdge(x)) < cutting.tip_band_cells * dx &&
           knife_->WithinBladeLength(x)) {
+        // A force on the real mass: on scaled mass (solver_config.h) the acceleration is 1 / s of it.
         const Eigen::Vector3d push = (blade_side[q] > 0 ? 1.0 : -1.0) *
-                                     cutting.tip_acceleration_m_s2 * dt_s * blade_normal;
+                                     (cutting.tip_acceleration_m_s2 / config().mass_scaling) * dt_s * blade_normal;
         for (int axis = 0; axis < 3; ++axis) v[axis][l] += Real(push[axis]);
         totals.particle_impulse += double(mass[q]) * push;
       }

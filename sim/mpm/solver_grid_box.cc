@@ -78,7 +78,7 @@ void Solver<Real>::PrepareWorkspace(int team) {
   work.reorder_now = work.substeps_since_reorder++ % kReorderEverySubsteps == 0;
   if (work.reorder_now) SizeBlockOrderSpares(&work.blocks, particles_, &work.reorder_spare);
   if (!work.contact_materials_ready) {
-    work.contact_materials = ContactMaterials(materials(), config().cutting);
+    work.contact_materials = ContactMaterials(materials(), config().cutting, config().mass_scaling);
     work.contact_materials_ready = true;
   }
   // Two cells of margin: a node touches the food's particles within its stencil's reach.

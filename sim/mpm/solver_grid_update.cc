@@ -52,6 +52,7 @@ void Solver<Real>::UpdateGrid(const SubstepContext& context, ContactState* conta
   const double half_length_m = context.half_length_m;
   const double blade_offset_m = split_on ? 0.0 : kUnsplitBladeOffsetCells * dx;
 
+  const Eigen::Vector3d gravity = config().weight_acceleration_m_s2();
   const bool sense_force = effects.force_sensing;  // off: no impulse bookkeeping at all
   // Updates one node's velocity in place from its mass and momentum; `side` >= 0 for a layer of a
   // split node, whose blade is a wall at the blade face on that side.
@@ -62,10 +63,10 @@ void Solver<Real>::UpdateGrid(const SubstepContext& context, ContactState* conta
     const double m = node_mass;
     Eigen::Vector3d v = (grid_node->template head<3>() / node_mass).template cast<double>();
     // Gravity and damping; their impulses are counted for the momentum check.
-    const Eigen::Vector3d v_undamped = v + dt_s * config().gravity_m_s2;
+    const Eigen::Vector3d v_undamped = v + dt_s * gravity;
     v = v_undamped * damping;
     if (sense_force) {
-      totals->other_impulse += m * dt_s * config().gravity_m_s2 + m * (v - v_undamped);
+      totals->other_impulse += m * dt_s * gravity + m * (v - v_undamped);
       totals->mass += m;
     }
     double approach = 0.0;

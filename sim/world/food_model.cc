@@ -122,6 +122,7 @@ FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout)
   mpm::SolverConfig& solver = solver_model.config;
   solver.dx_m = resolution.dx_m;
   solver.cfl = resolution.cfl;
+  solver.mass_scaling = resolution.mass_scaling;
   solver.gravity_m_s2 = layout.gravity_m_s2;
   solver.effects.plasticity = config.effects.plasticity;
   solver.effects.damage = config.effects.damage;
@@ -175,7 +176,7 @@ FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout)
                        " nodes (limit " + std::to_string(static_cast<long long>(kMaxInitialGridNodes)) +
                        "); place the foods closer together or use a coarser scene.quality");
     }
-    const std::size_t added = mpm::SampleFood(*shape, pose, solver_model.materials.back().density_kg_m3,
+    const std::size_t added = mpm::SampleFood(*shape, pose, solver.mass_scaling * solver_model.materials.back().density_kg_m3,
                                               static_cast<std::uint16_t>(i), static_cast<std::uint16_t>(i), sampling,
                                               &food_model.initial_particles);
     if (added == 0) {

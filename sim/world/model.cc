@@ -168,6 +168,7 @@ std::shared_ptr<const Model> CompileModel(const SceneConfig& config, const Robot
     for (int axis = 0; axis < 3; ++axis) HashBytes(&hash, particles.position[axis].data(), count * sizeof(float));
     HashBytes(&hash, &model->food->solver->config.dx_m, sizeof(double));
     HashBytes(&hash, &model->food->solver->config.cfl, sizeof(double));
+    HashBytes(&hash, &model->food->solver->config.mass_scaling, sizeof(double));
   }
   model->fingerprint = hash;
   return model;

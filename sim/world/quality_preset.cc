@@ -57,6 +57,13 @@ MpmResolution ResolveMpmResolution(const std::string& quality, const MpmResoluti
     }
     resolution.cfl = *overrides.cfl;
   }
+  if (overrides.mass_scaling) {
+    if (!(*overrides.mass_scaling >= 1.0 && *overrides.mass_scaling <= 1000.0)) {
+      error << "scene.mpm.mass_scaling must be in [1, 1000], got " << *overrides.mass_scaling;
+      throw SceneError(error.str());
+    }
+    resolution.mass_scaling = *overrides.mass_scaling;
+  }
   return resolution;
 }
 

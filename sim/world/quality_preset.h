@@ -13,6 +13,7 @@ struct MpmResolution {
   double dx_m = 0.004;          // grid spacing
   int particles_per_cell = 8;   // per dx^3 cell
   double cfl = 0.2;             // dt = cfl dx / wave speed
+  double mass_scaling = 1.0;    // inertia multiplier (sim/mpm/solver_config.h); 1 = real mass
 };
 
 // draft: fast enough for tests and quick looks; standard: the paper's resolution; fine: studies.

@@ -61,6 +61,7 @@ struct MpmResolutionConfig {
   std::optional<double> dx_m;
   std::optional<int> particles_per_cell;
   std::optional<double> cfl;
+  std::optional<double> mass_scaling;
 };
 
 // A cutting task: a free-form instruction, or the fields of a cut spec (not both).

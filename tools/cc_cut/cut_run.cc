@@ -4,6 +4,8 @@
 #include <chrono>
 #include <deque>
 #include <cmath>
+#include <fstream>
+#include <string>
 
 #include "sim/core/stage_timer.h"
 #include "sim/mpm/speed_resistance.h"
@@ -49,6 +51,20 @@ void ResolvePath(const CutModel& model, CutSummary* summary) {
 
 }  // namespace
 
+namespace {
+
+// This process's peak resident memory (MB): VmHWM of /proc/self/status, which, unlike getrusage's
+// maxrss, does not carry the parent's memory over the fork and exec that started us. 0 off Linux.
+double PeakResidentMegabytes() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);) {
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;  // kB
+  }
+  return 0.0;
+}
+
+}  // namespace
+
 CutSummary RunCut(const CutModel& model, const CutStepCallback& on_step) {
   const auto start_total = std::chrono::steady_clock::now();
   CutSummary summary;
@@ -79,6 +95,8 @@ CutSummary RunCut(const CutModel& model, const CutStepCallback& on_step) {
   knife.height_m = summary.start_height_m;
   knife.settle_left_s = path.settle_s;
   double collider_impulse_sum = 0.0;
+  double kinetic_in_contact_j_s = 0.0;  // energies integrated over the substeps with blade contact
+  double elastic_in_contact_j_s = 0.0;
   std::deque<std::pair<double, Eigen::Vector3d>> window;  // (dt, blade impulse) of the last substeps
   Eigen::Vector3d window_impulse_n_s = Eigen::Vector3d::Zero();
   double window_s = 0.0;
@@ -150,6 +168,10 @@ CutSummary RunCut(const CutModel& model, const CutStepCallback& on_step) {
     summary.j_max = std::max(summary.j_max, d.j_max);
     summary.j_clamps += d.j_clamps;
     summary.speed_caps += d.speed_caps;
+    if (d.force_on_blade_n.squaredNorm() > 0.0) {
+      kinetic_in_contact_j_s += d.kinetic_energy_j * dt;
+      elastic_in_contact_j_s += d.elastic_energy_j * dt;
+    }
     if (on_step) on_step(record);
 
     // Advance the knife along its path.
@@ -173,6 +195,7 @@ CutSummary RunCut(const CutModel& model, const CutStepCallback& on_step) {
     }
   }
   summary.sim_time_s = time_s;
+  if (elastic_in_contact_j_s > 0.0) summary.kinetic_to_elastic_energy = kinetic_in_contact_j_s / elastic_in_contact_j_s;
   const Eigen::Vector3d mismatch = summary.momentum_change_n_s - summary.external_impulse_n_s;
   summary.momentum_mismatch =
       collider_impulse_sum > 0.0 ? mismatch.norm() / collider_impulse_sum : 0.0;
@@ -181,6 +204,8 @@ CutSummary RunCut(const CutModel& model, const CutStepCallback& on_step) {
   const auto start_topology = std::chrono::steady_clock::now();
   UpdatePieces(model.food, &food);
   summary.pieces = food.pieces;
+  // The particles carry the scaled inertia (mass scaling); a piece's mass is the food's real one.
+  for (mpm::Piece& piece : summary.pieces) piece.mass_kg /= model.food.solver->config.mass_scaling;
   summary.cut_positions_m =
       mpm::CutPositionsAlongAxis(summary.pieces, 0, summary.axis_origin_m, summary.axis_direction);
   for (const auto damage : solver.particles().damage) {
@@ -192,6 +217,7 @@ CutSummary RunCut(const CutModel& model, const CutStepCallback& on_step) {
     summary.particle_steps_per_s =
         double(summary.particles) * summary.substeps / (substep_ms * 1e-3);
   }
+  summary.peak_memory_mb = PeakResidentMegabytes();
   return summary;
 }
 

@@ -60,6 +60,9 @@ struct CutSummary {
   std::int64_t speed_caps = 0;
   std::size_t broken_particles = 0;  // damage >= topology.broken_damage at the end
   double min_speed_factor = 1.0;     // slowest descent speed / descent_speed_m_s
+  // The food's kinetic over its elastic energy, each integrated over the substeps the blade pushes
+  // on it: mass scaling (sim/mpm/solver_config.h) stays quasi-static while this is small (< 0.1).
+  double kinetic_to_elastic_energy = 0.0;
   // Wall time (ms).
   double compile_ms = 0.0;  // the food model, sampling included
   double setup_ms = 0.0;
@@ -69,6 +72,7 @@ struct CutSummary {
   double topology_ms = 0.0;
   double total_ms = 0.0;  // compilation, substeps and topology
   double particle_steps_per_s = 0.0;  // particles x substeps / substep wall time
+  double peak_memory_mb = 0.0;        // the process's peak resident memory (Linux; else 0)
 };
 
 // Resets the food as a server episode does, runs the cut and detects the pieces. `on_step` (may be

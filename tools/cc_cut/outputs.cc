@@ -51,6 +51,7 @@ json ResolvedJson(const CutModel& model, const CutSummary& s) {
           {"dx_m", dx},
           {"dt_s", s.dt_s},
           {"particles_per_cell", model.food.resolution.particles_per_cell},
+          {"mass_scaling", config.mass_scaling},
           {"particles", s.particles},
           {"threads", config.threads},
           {"effects",
@@ -124,6 +125,7 @@ json ResultJson(const CutSummary& s) {
           {"speed_caps", s.speed_caps},
           {"broken_particles", s.broken_particles},
           {"min_speed_factor", s.min_speed_factor},
+          {"kinetic_to_elastic_energy", s.kinetic_to_elastic_energy},
           {"wall_time_ms",
            {{"compile", s.compile_ms},
             {"setup", s.setup_ms},
@@ -132,7 +134,8 @@ json ResultJson(const CutSummary& s) {
             {"g2p", s.g2p_ms},
             {"topology", s.topology_ms},
             {"total", s.total_ms}}},
-          {"particle_steps_per_s", s.particle_steps_per_s}};
+          {"particle_steps_per_s", s.particle_steps_per_s},
+          {"peak_memory_mb", s.peak_memory_mb}};
 }
 
 }  // namespace
