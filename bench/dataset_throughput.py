@@ -104,8 +104,8 @@ def main() -> int:
 def markdown(r: dict) -> str:
     m = r["machine"]
     lines = [f"# Dataset generation throughput ({r['quality']})", "",
-             f"Measured {r['date']} by `bench/dataset_throughput.py` on {m['cpu_model']} ({m['cores']} cores, shared "
-             f"with other work), Python {m['python']}: `culinarycut data generate` with {r['servers']} servers ({r['servers_used']} used) and "
+             f"Measured {r['date']} by `bench/dataset_throughput.py` on {m['cpu_model']} ({m['cores']} cores), "
+             f"Python {m['python']}: `culinarycut data generate` with {r['servers']} servers ({r['servers_used']} used) and "
              f"{r['workers']} Dask workers, three {r['image_size']}x{r['image_size']} RGB cameras, MPM, damage, "
              f"topology and force sensing on, styles `{r['styles']}` on cucumber at ratio 0.3, middle and split into 3.", "",
              "| | |", "|---|---|",
