@@ -14,6 +14,33 @@ namespace {
 using testing::AddBlock;
 using testing::SoftMaterial;
 
+// Steps `solver` at its stable dt until the mean `axis` velocity of the particles with x below
+// `end_x_m` (one end of a bar or beam along x) first turns from positive to non-positive; returns
+// that time (s), linearly interpolated within the substep, or 0 if it does not within `max_steps`.
+double FirstEndVelocityReversal(Solver<double>* solver, int axis, double end_x_m, int max_steps) {
+  const Particles<double>& p = solver->particles();
+  auto end_velocity = [&] {
+    double sum = 0.0;
+    int count = 0;
+    for (std::size_t q = 0; q < p.size(); ++q) {
+      if (p.position[0][q] < end_x_m) {
+        sum += p.velocity[axis][q];
+        ++count;
+      }
+    }
+    return sum / count;
+  };
+  const double dt = solver->StableTimestep();
+  double previous = end_velocity();
+  for (int s = 1; s < max_steps; ++s) {
+    solver->Substep(dt);
+    const double current = end_velocity();
+    if (previous > 0.0 && current <= 0.0) return dt * (s - 1 + previous / (previous - current));
+    previous = current;
+  }
+  return 0.0;
+}
+
 TEST_CASE("free fall follows x0 + v0 t + g t^2 / 2", "[mpm][verification]") {
   SolverConfig config;
   config.dx_m = 0.01;
@@ -84,29 +111,7 @@ TEST_CASE("a free-free elastic bar rings at the bar wave speed", "[mpm][verifica
     p.velocity[0][q] = v0 * std::cos(M_PI * p.position[0][q] / length_m);
   }
   const double c_expected = std::sqrt(bar.youngs_modulus_pa / bar.density_kg_m3);
-  const double dt = solver.StableTimestep();
-  // End-region mean velocity along the bar.
-  auto end_velocity = [&] {
-    double sum = 0.0;
-    int count = 0;
-    for (std::size_t q = 0; q < p.size(); ++q) {
-      if (p.position[0][q] < 0.02) {
-        sum += p.velocity[0][q];
-        ++count;
-      }
-    }
-    return sum / count;
-  };
-  double previous = end_velocity();
-  double crossing_s = 0.0;
-  for (int s = 1; s < 2000 && crossing_s == 0.0; ++s) {
-    solver.Substep(dt);
-    const double current = end_velocity();
-    if (previous > 0.0 && current <= 0.0) {
-      crossing_s = dt * (s - 1 + previous / (previous - current));  // linear interpolation
-    }
-    previous = current;
-  }
+  const double crossing_s = FirstEndVelocityReversal(&solver, 0, 0.02, 2000);
   REQUIRE(crossing_s > 0.0);
   const double c_measured = length_m / (2.0 * crossing_s);
   INFO("wave speed " << c_measured << " m/s, expected " << c_expected << " m/s");
@@ -208,25 +213,7 @@ std::pair<double, double> BendingFrequency(double poisson) {
     return std::cosh(beta * x) + std::cos(beta * x) - sigma * (std::sinh(beta * x) + std::sin(beta * x));
   };
   for (std::size_t q = 0; q < p.size(); ++q) p.velocity[2][q] = v0 * mode(p.position[0][q]) / mode(0.0);
-  auto end_velocity = [&] {
-    double sum = 0.0;
-    int count = 0;
-    for (std::size_t q = 0; q < p.size(); ++q) {
-      if (p.position[0][q] < 0.01) {
-        sum += p.velocity[2][q];
-        ++count;
-      }
-    }
-    return sum / count;
-  };
-  const double dt = solver.StableTimestep();
-  double previous = end_velocity(), quarter_s = 0.0;
-  for (int s = 1; s < 200000 && quarter_s == 0.0; ++s) {
-    solver.Substep(dt);
-    const double current = end_velocity();
-    if (previous > 0.0 && current <= 0.0) quarter_s = dt * (s - 1 + previous / (previous - current));
-    previous = current;
-  }
+  const double quarter_s = FirstEndVelocityReversal(&solver, 2, 0.01, 200000);
   const double inertia_m4 = std::pow(side_m, 4) / 12.0;
   const double area_m2 = side_m * side_m;
   const double analytic = beta * beta * std::sqrt(material.youngs_modulus_pa * inertia_m4 /
