@@ -49,10 +49,6 @@ void ResolvePath(const CutModel& model, CutSummary* summary) {
   summary->end_height_m = task::BottomZ(food) - path.end_below_bottom_m;
 }
 
-}  // namespace
-
-namespace {
-
 // This process's peak resident memory (MB): VmHWM of /proc/self/status, which, unlike getrusage's
 // maxrss, does not carry the parent's memory over the fork and exec that started us. 0 off Linux.
 double PeakResidentMegabytes() {
