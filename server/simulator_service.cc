@@ -12,6 +12,7 @@
 #include "server/wire/safety.h"
 #include "server/wire/scene.h"
 #include "sim/world/controller.h"
+#include "sim/world/quality_preset.h"
 #include "sim/world/scene_budget.h"
 #include "sim/world/snapshot.h"
 #include "sim/world/step.h"
@@ -64,6 +65,16 @@ grpc::Status SimulatorService::GetServerInfo(grpc::ServerContext* context, const
   limits->set_max_food_particles(kMaxFoodParticles);
   limits->set_max_mpm_substeps_per_step(kMaxMpmSubstepsPerControlStep);
   limits->set_max_camera_pixels(kMaxCameraPixelsPerSession);
+  for (const std::string& name : QualityPresetNames()) {
+    const MpmResolution resolution = ResolveMpmResolution(name, std::nullopt, {});
+    v1::QualityPreset* preset = info->add_quality_presets();
+    preset->set_name(name);
+    preset->mutable_mpm()->set_dx(resolution.dx_m);
+    preset->mutable_mpm()->set_particles_per_cell(static_cast<std::uint32_t>(resolution.particles_per_cell));
+    preset->mutable_mpm()->set_cfl(resolution.cfl);
+    preset->mutable_mpm()->set_mass_scaling(resolution.mass_scaling);
+    ExpectedAccuracyToWire(resolution, preset->mutable_expected());
+  }
   return grpc::Status::OK;
 }
 

@@ -2,6 +2,7 @@
 
 #include "server/wire/camera.h"
 #include "server/wire/values.h"
+#include "sim/world/measured_accuracy.h"
 
 namespace culinarycut::server {
 namespace {
@@ -63,7 +64,33 @@ SafetyConfig SafetyFromWire(const v1::SafetySpec& wire) {
   return safety;
 }
 
+AccuracyTargetConfig AccuracyTargetFromWire(const v1::AccuracyTarget& wire) {
+  AccuracyTargetConfig target;
+  if (wire.force_error() != 0) target.force_error = FiniteFromWire(wire.force_error(), "scene.accuracy_target.force_error");
+  if (wire.force_curve_error() != 0) {
+    target.force_curve_error = FiniteFromWire(wire.force_curve_error(), "scene.accuracy_target.force_curve_error");
+  }
+  if (wire.cut_position_error_mm() != 0) {
+    target.cut_position_error_mm =
+        FiniteFromWire(wire.cut_position_error_mm(), "scene.accuracy_target.cut_position_error_mm");
+  }
+  return target;
+}
+
 }  // namespace
+
+void ExpectedAccuracyToWire(const MpmResolution& resolution, v1::ExpectedAccuracy* wire) {
+  wire->set_setting(SettingLabel(resolution));
+  wire->set_study(AccuracyStudyName());
+  const std::optional<MeasuredAccuracy> measured = FindMeasuredAccuracy(resolution);
+  wire->set_measured(measured.has_value());
+  if (!measured) return;
+  wire->set_force_error(measured->peak_force_error);
+  wire->set_mean_force_error(measured->mean_force_error);
+  wire->set_force_curve_error(measured->force_curve_error);
+  wire->set_cut_position_error_mm(measured->cut_position_error_mm);
+  wire->set_relative_cost(measured->relative_cost);
+}
 
 SceneConfig SceneFromWire(const v1::SceneSpec& wire) {
   const v1::Effects& effects = wire.effects();
@@ -90,6 +117,7 @@ SceneConfig SceneFromWire(const v1::SceneSpec& wire) {
   if (mpm.mass_scaling() != 0) config.mpm.mass_scaling = FiniteFromWire(mpm.mass_scaling(), "scene.mpm.mass_scaling");
   config.seed = wire.seed();
   if (!wire.quality().empty()) config.quality = TextFromWire(wire.quality(), "scene.quality");
+  if (wire.has_accuracy_target()) config.accuracy_target = AccuracyTargetFromWire(wire.accuracy_target());
   config.max_episode_steps = wire.max_episode_steps();
   if (!wire.scene().empty()) config.scene = TextFromWire(wire.scene(), "scene.scene");
   const v1::RobotSpec& robot = wire.robot();
@@ -114,6 +142,12 @@ v1::SceneSpec SceneToWire(const SceneConfig& config) {
   wire.set_seed(config.seed);
   wire.set_scene(config.scene);
   wire.set_quality(config.quality);
+  if (config.accuracy_target) {
+    v1::AccuracyTarget* target = wire.mutable_accuracy_target();
+    target->set_force_error(config.accuracy_target->force_error.value_or(0.0));
+    target->set_force_curve_error(config.accuracy_target->force_curve_error.value_or(0.0));
+    target->set_cut_position_error_mm(config.accuracy_target->cut_position_error_mm.value_or(0.0));
+  }
   wire.set_max_episode_steps(config.max_episode_steps);
   v1::RobotSpec* robot = wire.mutable_robot();
   robot->set_control_frequency_hz(config.robot.control_frequency_hz);
@@ -171,6 +205,7 @@ void ResolvedFoodToWire(const FoodModel& food, v1::SceneSpec* wire) {
   wire->mutable_mpm()->set_particles_per_cell(static_cast<std::uint32_t>(food.resolution.particles_per_cell));
   wire->mutable_mpm()->set_cfl(food.resolution.cfl);
   wire->mutable_mpm()->set_mass_scaling(food.resolution.mass_scaling);
+  ExpectedAccuracyToWire(food.resolution, wire->mutable_expected_accuracy());
   for (int i = 0; i < wire->objects_size() && i < static_cast<int>(food.objects.size()); ++i) {
     PoseToWire(food.objects[i].pose, wire->mutable_objects(i)->mutable_pose());
     if (food.solver->materials[i].name != wire->objects(i).material() && wire->objects(i).material().empty()) {

@@ -116,7 +116,7 @@ void CheckOnTable(const Eigen::AlignedBox3d& food_m, const SceneLayout& layout, 
 FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout) {
   CheckEffects(config);
   FoodModel food_model;
-  food_model.resolution = ResolveMpmResolution(config.quality, config.mpm);
+  food_model.resolution = ResolveMpmResolution(config.quality, config.accuracy_target, config.mpm);
   const MpmResolution& resolution = food_model.resolution;
   mpm::SolverModel solver_model;
   mpm::SolverConfig& solver = solver_model.config;

@@ -2,6 +2,7 @@
 // scene override the preset's, one by one.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,10 +18,14 @@ struct MpmResolution {
 };
 
 // draft: fast enough for tests and quick looks; standard: the paper's resolution; fine: studies.
+// draft and standard are the cheapest settings on the accuracy study's front at their accuracy
+// (docs/accuracy.md); measured_accuracy.h gives each one's expected error and cost.
 std::vector<std::string> QualityPresetNames();
 
-// The preset named `quality` with the explicit values of `overrides` applied. Throws SceneError
-// naming the field for an unknown preset or an out-of-range value.
-MpmResolution ResolveMpmResolution(const std::string& quality, const MpmResolutionConfig& overrides);
+// The preset named `quality`, or with `target` the cheapest measured setting that meets it
+// (measured_accuracy.h), with the explicit values of `overrides` applied. Throws SceneError naming
+// the field for an unknown preset, an unreachable target or an out-of-range value.
+MpmResolution ResolveMpmResolution(const std::string& quality, const std::optional<AccuracyTargetConfig>& target,
+                                   const MpmResolutionConfig& overrides);
 
 }  // namespace culinarycut

@@ -64,6 +64,14 @@ struct MpmResolutionConfig {
   std::optional<double> mass_scaling;
 };
 
+// An accuracy target in place of a preset (docs/accuracy.md): the cheapest setting the accuracy study
+// measured that meets every bound set here; an unset bound is free.
+struct AccuracyTargetConfig {
+  std::optional<double> force_error;            // peak (5 ms window) blade force, relative to the reference
+  std::optional<double> force_curve_error;      // force-depth curve, relative L2
+  std::optional<double> cut_position_error_mm;  // where the cut lands (mm)
+};
+
 // A cutting task: a free-form instruction, or the fields of a cut spec (not both).
 struct TaskConfig {
   std::string instruction;
@@ -98,6 +106,7 @@ struct SceneConfig {
   RobotConfig robot;
   std::string scene = "table";
   std::string quality = "standard";        // MPM accuracy preset: draft, standard, fine (no effect without food)
+  std::optional<AccuracyTargetConfig> accuracy_target;  // set: chooses the resolution instead of `quality`
   std::uint32_t max_episode_steps = 0;     // 0: never truncate
   EffectsConfig effects;
   SafetyConfig safety;

@@ -69,6 +69,36 @@ def test_the_resolved_scene_places_the_food_and_names_the_resolution(client):
     client.close_session(handshake.session_id)
 
 
+def test_an_accuracy_target_gets_the_cheapest_measured_setting_and_says_what_to_expect(client):
+    """`quality: {force_error: 0.1}` instead of a preset name: the server picks from its accuracy study."""
+    presets = {p.name: p for p in client.server_info().quality_presets}
+    assert list(presets) == ["draft", "standard", "fine"]
+    draft, standard = presets["draft"].expected, presets["standard"].expected
+    assert draft.measured and standard.measured and not presets["fine"].expected.measured
+    assert standard.relative_cost == pytest.approx(1.0) and draft.relative_cost < 0.2
+    assert standard.force_error < draft.force_error and presets["standard"].mpm.cfl == pytest.approx(0.4)
+
+    handshake = client.create_session({**cutting_scene(CUCUMBER), "quality": {"force_error": 0.1}})
+    resolved = handshake.resolved_scene
+    client.close_session(handshake.session_id)
+    expected = resolved.expected_accuracy
+    assert resolved.accuracy_target.force_error == pytest.approx(0.1)
+    assert expected.measured and expected.force_error <= 0.1 and expected.relative_cost < 1.0
+    assert expected.setting == (f"dx {resolved.mpm.dx * 1e3:g} mm, {resolved.mpm.particles_per_cell} ppc, "
+                                f"CFL {resolved.mpm.cfl:g}")
+    # No measured setting is cheaper and as accurate: the presets are among the candidates.
+    assert not any(p.expected.measured and p.expected.force_error <= 0.1 and p.expected.relative_cost
+                   < expected.relative_cost for p in presets.values())
+    # The resolved scene, sent again, resolves to the same setting.
+    again = client.create_session(resolved)
+    assert again.resolved_scene.mpm == resolved.mpm
+    client.close_session(again.session_id)
+    with pytest.raises(errors.InvalidArgument, match="scene.accuracy_target.force_error 0.001 is below"):
+        client.create_session({**cutting_scene(CUCUMBER), "quality": {"force_error": 0.001}})
+    with pytest.raises(errors.InvalidArgument, match="scene.accuracy_target sets no bound"):
+        client.create_session({**cutting_scene(CUCUMBER), "quality": {}})
+
+
 def test_a_food_given_only_x_and_y_rests_on_the_board_there(client):
     default = client.create_session(cutting_scene(CUCUMBER))
     lying = default.resolved_scene.objects[0].pose.position

@@ -14,14 +14,20 @@ from culinarycut.v1 import scene_pb2, simulator_pb2, simulator_pb2_grpc
 
 
 def scene_to_proto(scene) -> scene_pb2.SceneSpec:
-    """Accept a SceneSpec, a plain dict in proto-JSON form (camelCase or snake_case keys) or None."""
+    """Accept a SceneSpec, a plain dict in proto-JSON form (camelCase or snake_case keys) or None.
+
+    In a dict, `quality` may be an accuracy target instead of a preset name, e.g. {"force_error": 0.1}:
+    it becomes SceneSpec.accuracy_target (docs/accuracy.md)."""
     if scene is None:
         return scene_pb2.SceneSpec()
     if isinstance(scene, scene_pb2.SceneSpec):
         return scene
     if isinstance(scene, Mapping):
+        scene = dict(scene)
+        if isinstance(scene.get("quality"), Mapping):
+            scene["accuracy_target"] = scene.pop("quality")
         try:
-            return json_format.ParseDict(dict(scene), scene_pb2.SceneSpec())
+            return json_format.ParseDict(scene, scene_pb2.SceneSpec())
         except json_format.ParseError as err:
             raise ValueError(f"scene: {err} (see proto/culinarycut/v1/scene.proto for the fields)") from None
     raise TypeError(f"scene must be a dict, SceneSpec or None, not {type(scene).__name__}")
