@@ -54,5 +54,5 @@ def run_oracle_episode(client: Client, scene: dict, seed: int = 0, on_step=None,
         trace["mpm_particles"] = int(stats.mpm_particles)
         trace["mpm_substeps"] = int(stats.mpm_substeps)
         trace["resolution"] = {"dx_m": stats.mpm_dx, "particles_per_cell": stats.mpm_particles_per_cell,
-                               "cfl": stats.mpm_cfl}
+                               "cfl": stats.mpm_cfl, "mass_scaling": env.handshake.resolved_scene.mpm.mass_scaling}
     return trace
