@@ -69,10 +69,7 @@ grpc::Status SimulatorService::GetServerInfo(grpc::ServerContext* context, const
     const MpmResolution resolution = ResolveMpmResolution(name, std::nullopt, {});
     v1::QualityPreset* preset = info->add_quality_presets();
     preset->set_name(name);
-    preset->mutable_mpm()->set_dx(resolution.dx_m);
-    preset->mutable_mpm()->set_particles_per_cell(static_cast<std::uint32_t>(resolution.particles_per_cell));
-    preset->mutable_mpm()->set_cfl(resolution.cfl);
-    preset->mutable_mpm()->set_mass_scaling(resolution.mass_scaling);
+    MpmResolutionToWire(resolution, preset->mutable_mpm());
     ExpectedAccuracyToWire(resolution, preset->mutable_expected());
   }
   return grpc::Status::OK;

@@ -79,6 +79,13 @@ AccuracyTargetConfig AccuracyTargetFromWire(const v1::AccuracyTarget& wire) {
 
 }  // namespace
 
+void MpmResolutionToWire(const MpmResolution& resolution, v1::MpmSettings* wire) {
+  wire->set_dx(resolution.dx_m);
+  wire->set_particles_per_cell(static_cast<std::uint32_t>(resolution.particles_per_cell));
+  wire->set_cfl(resolution.cfl);
+  wire->set_mass_scaling(resolution.mass_scaling);
+}
+
 void ExpectedAccuracyToWire(const MpmResolution& resolution, v1::ExpectedAccuracy* wire) {
   wire->set_setting(SettingLabel(resolution));
   wire->set_study(AccuracyStudyName());
@@ -201,10 +208,7 @@ v1::SceneSpec SceneToWire(const SceneConfig& config) {
 }
 
 void ResolvedFoodToWire(const FoodModel& food, v1::SceneSpec* wire) {
-  wire->mutable_mpm()->set_dx(food.resolution.dx_m);
-  wire->mutable_mpm()->set_particles_per_cell(static_cast<std::uint32_t>(food.resolution.particles_per_cell));
-  wire->mutable_mpm()->set_cfl(food.resolution.cfl);
-  wire->mutable_mpm()->set_mass_scaling(food.resolution.mass_scaling);
+  MpmResolutionToWire(food.resolution, wire->mutable_mpm());
   ExpectedAccuracyToWire(food.resolution, wire->mutable_expected_accuracy());
   for (int i = 0; i < wire->objects_size() && i < static_cast<int>(food.objects.size()); ++i) {
     PoseToWire(food.objects[i].pose, wire->mutable_objects(i)->mutable_pose());

@@ -15,6 +15,7 @@ SceneConfig SceneFromWire(const v1::SceneSpec& wire);
 v1::SceneSpec SceneToWire(const SceneConfig& config);
 // Fills in what the food model resolved: each object's pose and the MPM resolution.
 void ResolvedFoodToWire(const FoodModel& food, v1::SceneSpec* wire);
+void MpmResolutionToWire(const MpmResolution& resolution, v1::MpmSettings* wire);
 // What the accuracy study measured for this resolution (measured = false when it did not run it).
 void ExpectedAccuracyToWire(const MpmResolution& resolution, v1::ExpectedAccuracy* wire);
 

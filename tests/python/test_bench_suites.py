@@ -12,7 +12,7 @@ from culinarycut.bench.episode_scene import DISTRACTOR_SLOTS_M, episode_spec, su
 from culinarycut.bench.suite import SuiteError, available_suites, episode_seed, load_suite
 
 SHIPPED = ["smoke", "unseen-seeds", "multi-object", "unseen-language", "cross-object", "continuous-ratio",
-           "split-partial", "topology-ablation", "safety-ablation"]
+           "split-partial", "topology-ablation", "safety-ablation", "coverage"]
 
 
 def write_suite(tmp_path, body: str, name: str = "mine"):
@@ -31,6 +31,9 @@ def test_every_shipped_suite_loads_and_the_paper_settings_are_there():
     assert len([t for t in seeds.tasks if t.food == "apple" and t.style == "saw"]) == 13
     assert all(t.trials == 20 for t in seeds.tasks)
     assert {t.distractors for t in suites["multi-object"].tasks} == {2, 3, 4}
+    coverage = suites["coverage"]
+    assert {(t.food, t.style) for t in coverage.tasks} == {(t.food, t.style) for t in seeds.tasks}  # every pair
+    assert len(coverage.tasks) == 28 and {t.state for t in coverage.tasks} == {"middle"}
     assert {t.language for t in suites["unseen-language"].tasks} == {"held_out"}
     assert {t.group for t in suites["cross-object"].tasks} == {"train-objects", "unseen-objects"}
     ratio = suites["continuous-ratio"].tasks
