@@ -521,6 +521,8 @@ def markdown(stored: dict) -> str:
               f"above): **{target['label']}**, {target['speedup']:.1f}x less wall time "
               + ("(the 5x target is met)." if target["met"] else f"(short of the {TARGET_SPEEDUP:g}x target)."),
               *_near_misses(slow, next(r for r in rows if r["key"] == PRESETS["standard"].key)["worst"]),
+              "", "The same settings on a whole robot episode (the example cut through the server, three cameras) "
+              "are timed side by side in [benchmarks/cut_episode.md](benchmarks/cut_episode.md).",
               "", "`SceneSpec.mpm.mass_scaling` sets mass scaling for a session (docs/world.md): the food's inertia "
               "times s, its weight real (gravity acts on the scaled mass as g / s), the MPM substep sqrt(s) longer. "
               "It is valid while the kinetic / elastic column stays small; cc-cut reports it as "
