@@ -7,7 +7,8 @@ docs/images/lsdyna_reference.png, then re-renders docs/physics_validation.md.
 
     .venv/bin/python bench/lsdyna_calibration.py [--cc-cut build/tools/cc_cut/cc-cut] [--speed 0.5]
 
-The procedure: each specimen is cut by cc-cut at the standard preset (dx 4 mm, 8 particles per cell) with its
+The procedure: each specimen is cut by cc-cut at dx 4 mm, 8 particles per cell, CFL 0.2 (the standard preset
+when the presets were calibrated; --check-preset cuts them at today's standard preset) with its
 material's preset and the measured fracture toughness (an override, so reruns start from the same place
 whatever the preset now holds). The edge's part of the force is G L (docs/mpm.md) and
 linear in the edge toughness G, and the faces' friction grows with it. The first guess scales only the
@@ -48,14 +49,20 @@ REFERENCES = (
 )
 
 
-def scene(reference: dict, speed_m_s: float, toughness_j_m2: float, quality: str = "standard") -> dict:
+# The standard preset's resolution when the presets' toughness was calibrated (2026-11-25); the standard
+# preset has had CFL 0.4 since (docs/accuracy.md), and --check-preset cuts the specimens with it.
+CALIBRATION_MPM = {"dx": 0.004, "particles_per_cell": 8, "cfl": 0.2}
+
+
+def scene(reference: dict, speed_m_s: float, toughness_j_m2: float, quality: str = "standard",
+          mpm: dict | None = None) -> dict:
     # The specimen's shape replaces the food's; "cucumber" only names a food the scene accepts.
     obj = {"food": "cucumber", "material": reference["material"], "pose": {"position": [0.5, 0.0]},
            "material_overrides": {"fracture_toughness_j_m2": toughness_j_m2}}
     return {"description": f"LS-DYNA reference: {reference['name']}",
             "scene": {"effects": {"mpm": True, "plasticity": True, "damage": True, "friction": True,
                                   "force_sensing": True},
-                      "objects": [obj], "quality": quality, "seed": 0},
+                      "objects": [obj], "quality": quality, "seed": 0, **({"mpm": mpm} if mpm else {})},
             "solver": {"threads": 1},
             "knife": {"cut_fraction": 0.5, "start_above_top_m": 0.002, "end_below_bottom_m": 0.001,
                       "descent_speed_m_s": speed_m_s, "lift_speed_m_s": 1.0, "settle_s": 0.0,
@@ -73,29 +80,50 @@ def plateau(result: dict) -> dict:
     return {"blade_n": blade, "edge_n": edge, "faces_n": blade - edge}
 
 
+def check_preset(cc_cut: Path) -> int:
+    """The calibrated G at the current standard preset: is the plateau still in the reference band?"""
+    stored = json.loads(OUT_JSON.read_text())
+    with tempfile.TemporaryDirectory() as tmp:
+        for reference in stored["references"]:
+            result = run(cc_cut, scene(reference, stored["speed_m_s"], reference["fitted_toughness_j_m2"]), Path(tmp))
+            q = plateau(result)
+            reference["current_standard"] = {**q, "wall_s": result["wall_s"],
+                                              "in_band": reference["band_n"][0] <= q["blade_n"] <= reference["band_n"][1],
+                                              "date": date.today().isoformat()}
+            print(f"{reference['name']} at the standard preset: plateau {q['blade_n']:.1f} N", flush=True)
+    OUT_JSON.write_text(json.dumps(stored, indent=1))
+    render_doc()
+    return 0 if all(r["current_standard"]["in_band"] for r in stored["references"]) else 1
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cc-cut", type=Path, default=ROOT / "build" / "tools" / "cc_cut" / "cc-cut")
     parser.add_argument("--speed", type=float, default=0.5,
                         help="knife descent speed, m/s (the references press at 35-65 mm/s; see the doc)")
+    parser.add_argument("--check-preset", action="store_true",
+                        help="only cut each specimen at the current standard preset with its calibrated G and add "
+                             "the plateau to the stored results")
     args = parser.parse_args()
     if not args.cc_cut.exists():
         print(f"error: no cc-cut at {args.cc_cut}; build it (scripts/build.sh) or pass --cc-cut", file=sys.stderr)
         return 2
+    if args.check_preset:
+        return check_preset(args.cc_cut)
     results = []
     with tempfile.TemporaryDirectory() as tmp:
         for reference in REFERENCES:
             g_measured = reference["literature_toughness_j_m2"]
             f_mid = 0.5 * sum(reference["band_n"])
             print(f"{reference['name']} with the measured G = {g_measured:g} J/m^2 ...", flush=True)
-            before = run(args.cc_cut, scene(reference, args.speed, g_measured), Path(tmp))
+            before = run(args.cc_cut, scene(reference, args.speed, g_measured, mpm=CALIBRATION_MPM), Path(tmp))
             p = plateau(before)
             # First guess: only the edge's part scales with G. The faces' friction grows with it too (the
             # edge presses the food against the faces harder), so the secant method on (G, plateau) follows.
             points = [(g_measured, p["blade_n"])]
             g_next = g_measured * (f_mid - p["faces_n"]) / p["edge_n"]
             for _ in range(MAX_ITERATIONS):
-                check = run(args.cc_cut, scene(reference, args.speed, g_next), Path(tmp))
+                check = run(args.cc_cut, scene(reference, args.speed, g_next, mpm=CALIBRATION_MPM), Path(tmp))
                 q = plateau(check)
                 points.append((g_next, q["blade_n"]))
                 print(f"  G = {g_next:.0f} J/m^2: plateau {q['blade_n']:.1f} N", flush=True)

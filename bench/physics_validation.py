@@ -188,8 +188,8 @@ def _calibration_markdown(calibration: dict | None) -> str:
              "press a 2 mm knife straight down into a 10 x 10 x 5 cm potato prism and a cucumber half-cylinder "
              "(radius 5 cm, length 10 cm), with E and nu as in our presets (rho 630 and 950 kg/m^3; our cucumber's is 1000), "
              "and their force plateaus in the bands "
-             "below. cc-cut cuts the same specimens (`specimen` in its scene file) at the standard preset "
-             f"(dx 4 mm) at {calibration['speed_m_s']:g} m/s; the plateau is the mean 5 ms-window blade force while "
+             "below. cc-cut cuts the same specimens (`specimen` in its scene file) at dx 4 mm "
+             f"at {calibration['speed_m_s']:g} m/s; the plateau is the mean 5 ms-window blade force while "
              f"the edge is between {calibration['plateau_depth_fraction'][0]:.0%} and "
              f"{calibration['plateau_depth_fraction'][1]:.0%} of the height down.", "",
              f"Machine: {machine['cpu_model']}, {machine['cores']} cores, {machine['platform']}; {machine['date']}.", "",
@@ -203,6 +203,14 @@ def _calibration_markdown(calibration: dict | None) -> str:
                      f"{a['blade_n']:.1f} | {'yes' if r['in_band'] else 'no'} | "
                      f"{r['draft_reference_speed']['blade_n']:.1f} / {r['draft_study_speed']['blade_n']:.1f} | "
                      f"{b['run']['wall_s'] + a['run']['wall_s']:.0f} |")
+    checked = [r for r in calibration["references"] if "current_standard" in r]
+    if checked:
+        lines += ["", f"The calibration cut at dx 4 mm, 8 particles per cell and CFL 0.2, the standard preset then. "
+                  f"At the standard preset of {checked[0]['current_standard']['date']} (CFL 0.4, chosen from the "
+                  "accuracy study's front, docs/accuracy.md) the calibrated G gives a plateau of " + ", ".join(
+                      f"{r['current_standard']['blade_n']:.1f} N for the {r['name']} "
+                      f"({'in' if r['current_standard']['in_band'] else 'out of'} its band)" for r in checked)
+                  + " (`bench/lsdyna_calibration.py --check-preset`)."]
     lines += ["", "![force against depth beside the reference bands](images/lsdyna_reference.png)", "",
               "**Procedure.** The edge's part of the force is G L (docs/mpm.md), linear in the edge toughness G, and "
               "the faces' friction grows with it (the edge presses the food harder against the faces). From one cut "
