@@ -2,7 +2,8 @@
 """What accuracy costs in time: representative cuts run by cc-cut over a grid of the MPM's quality knobs
 (grid spacing, particles per cell, CFL factor, mass scaling), each measured against the finest affordable run,
 drawn as Pareto fronts (worst error over the cuts against their summed wall time) with the presets marked.
-Writes docs/accuracy.md, docs/benchmarks/accuracy_cost.json and docs/images/accuracy_pareto.png.
+Writes docs/accuracy.md, docs/benchmarks/accuracy_cost.json, docs/images/accuracy_pareto.png and the table the
+server answers presets and accuracy targets from, sim/world/measured_accuracy_table.cc (rebuild after a rerun).
 
     .venv/bin/python bench/accuracy_cost.py [--cc-cut build/tools/cc_cut/cc-cut] [--workers 2] [--runs DIR]
     .venv/bin/python bench/accuracy_cost.py --check [--cc-cut ...]
