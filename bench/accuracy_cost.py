@@ -199,11 +199,16 @@ ACCURACY_METRICS = ("cut_position_mm", "peak_force", "mean_force", "force_curve_
 RESOLVED = {"cut_position_mm": 0.05, "peak_force": 0.005, "mean_force": 0.005, "force_curve_l2": 0.005}
 
 
+def _worse_than(found: dict, yardstick: dict) -> list[str]:
+    """The quantities on which `found` errs more than the yardstick by more than the study resolves (or that
+    either could not measure)."""
+    return [m for m in ACCURACY_METRICS
+            if found[m] is None or yardstick[m] is None or found[m] > yardstick[m] + RESOLVED[m]]
+
+
 def _as_accurate(found: dict, yardstick: dict) -> bool:
     """Same pieces, and no error above the yardstick's by more than the study resolves."""
-    return found["piece_count"] == 0 and all(
-        found[m] is not None and yardstick[m] is not None and found[m] <= yardstick[m] + RESOLVED[m]
-        for m in ACCURACY_METRICS)
+    return found["piece_count"] == 0 and not _worse_than(found, yardstick)
 
 
 def study(results: dict) -> dict:
@@ -424,7 +429,7 @@ def _near_misses(slow: dict, standard_worst: dict) -> list[str]:
              "force_curve_l2": "force curve"}
     misses, within = [], True
     for r in sorted(slow["rows"], key=lambda r: -r["wall_s"]):
-        over = [m for m in ACCURACY_METRICS if r["errors"][m] is None or r["errors"][m] > previous[m] + RESOLVED[m]]
+        over = _worse_than(r["errors"], previous)
         if r["speedup"] >= TARGET_SPEEDUP and len(over) == 1 and r["errors"][over[0]] is not None:
             m = over[0]
             within &= r["errors"][m] <= standard_worst[m]
