@@ -1,5 +1,6 @@
 #include "sim/world/measured_accuracy.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
