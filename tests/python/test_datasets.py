@@ -2,7 +2,8 @@
 object type), read back by readers that are not the writers: h5py for the HDF5 layouts, DuckDB for the
 LeRobot Parquet files (pyarrow writes them) with every column compared with the recorded episode, OpenCV's
 decoder for the videos; the LeRobot metadata checked against upstream LeRobot v2.1; verify's replay and its
-detection of a truncated file; the same seed gives the same episode bytes."""
+detection of a truncated file; the same seed gives the same episode bytes, however long a process holds
+the writer's HDF5 handles."""
 from __future__ import annotations
 
 import json
@@ -17,7 +18,7 @@ import pytest
 from culinarycut import Client
 from culinarycut.datasets.demo import load_demonstration
 from culinarycut.datasets.demo_from_oracle import record_oracle_demonstration
-from culinarycut.datasets.episode_file import read_episode
+from culinarycut.datasets.episode_file import read_episode, write_episode
 from culinarycut.datasets.export import export
 from culinarycut.datasets.generate import generate, run_job
 from culinarycut.datasets.jobs import DatasetConfig, Randomisation, draw_variation, job_scene, make_jobs
@@ -356,6 +357,20 @@ def test_same_seed_same_episode_bytes(dataset, tmp_path):
         original = dataset["root"] / next(r["file"] for r in store.rows() if r["key"] == job.key)
     again = tmp_path / original.relative_to(dataset["root"])
     assert again.read_bytes() == original.read_bytes()
+
+
+def test_episode_bytes_do_not_depend_on_when_dataset_handles_are_released(dataset, tmp_path, monkeypatch):
+    """A Dask worker's profiler can keep a writer's frame, and so its h5py handles, alive: same bytes."""
+    with GenerationStore(dataset["root"]) as store:
+        original = dataset["root"] / next(r["file"] for r in store.rows() if r["file"])
+    meta, steps = read_episode(original)
+    write_episode(tmp_path / "released.h5", meta, steps)
+    held = []
+    create = h5py.Group.create_dataset
+    monkeypatch.setattr(h5py.Group, "create_dataset", lambda *a, **k: held.append(create(*a, **k)) or held[-1])
+    write_episode(tmp_path / "held.h5", meta, steps)
+    assert held, "the writer did not go through h5py.Group.create_dataset"
+    assert (tmp_path / "held.h5").read_bytes() == (tmp_path / "released.h5").read_bytes()
 
 
 def test_dataset_card(dataset, tmp_path):

@@ -1,8 +1,8 @@
 """One kept episode as an HDF5 file (episodes/<key>.h5): its per-step arrays and its metadata as JSON.
 
 Written to a temporary name, flushed to disk and renamed, so a generator killed at any moment leaves
-either the whole file or none. No timestamps are stored (track_times off), so the same seed gives the
-same bytes.
+either the whole file or none. No timestamps are stored (track_times off) and chunks skip HDF5's chunk
+cache, so the same seed gives the same bytes.
 """
 from __future__ import annotations
 
@@ -23,7 +23,9 @@ def episode_path(root: Path, key: str) -> Path:
 def write_episode(path: Path, meta: dict, steps: dict[str, np.ndarray]) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     temporary = path.with_name(path.name + ".tmp")
-    with h5py.File(temporary, "w") as file:
+    # No chunk cache: cached chunks are placed in the file when their dataset handle is released, which
+    # depends on Python's object lifetimes (a Dask worker's profiler holds frames); uncached, in write order.
+    with h5py.File(temporary, "w", rdcc_nbytes=0) as file:
         file.attrs["format"] = FORMAT
         file.attrs["meta"] = json.dumps(meta, sort_keys=True)
         for name in sorted(steps):
