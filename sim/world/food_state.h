@@ -30,6 +30,9 @@ struct FoodState {
   KnifeWrench wrench;                       // mean over the last physics step
   KnifeWrench control_step_wrench;          // mean over the last control step (reported)
   double knife_speed_factor = 1.0;          // speed resistance of the last physics step, in (0, 1]
+  // Work the arm has done on the food through the coupling minus what the food gave back, per knife
+  // axis (along the blade, blade normal, cutting direction), J: what the food may still give back.
+  Eigen::Vector3d coupling_absorbed_j = Eigen::Vector3d::Zero();
   bool contact_last_step = false;           // the knife touched the food during the last control step
   int substeps_last_step = 0;               // MPM substeps of the last control step
   std::optional<std::uint64_t> first_contact_frame;  // control step of the first knife-food contact

@@ -130,6 +130,7 @@ void CheckFood(const Model& model, const State& state) {
                                    &food.control_step_wrench.torque_nm}) {
     Require(v->allFinite(), "food.wrench", "is not finite");
   }
+  Require(food.coupling_absorbed_j.allFinite(), "food.coupling_absorbed_j", "is not finite");
   Require(std::isfinite(food.quiet_time_s) && food.quiet_time_s >= 0, "food.quiet_time_s", "must be finite and >= 0");
   Require(std::isfinite(food.mpm_time_s) && food.mpm_time_s >= 0, "food.mpm_time_s", "must be finite and >= 0");
   Require(food.substeps_last_step >= 0, "food.substeps_last_step", "must be >= 0");

@@ -98,6 +98,7 @@ void VisitFood(Archive& archive, const Model& model, FoodState& food) {
   VisitWrench(archive, "food.wrench", food.wrench);
   VisitWrench(archive, "food.control_step_wrench", food.control_step_wrench);
   archive.Scalar("food.knife_speed_factor", food.knife_speed_factor);
+  VisitVector3(archive, "food.coupling_absorbed_j", food.coupling_absorbed_j);
   archive.Scalar("food.contact_last_step", food.contact_last_step);
   archive.Scalar("food.substeps_last_step", food.substeps_last_step);
   bool has_contact = food.first_contact_frame.has_value();

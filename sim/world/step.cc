@@ -4,6 +4,7 @@
 
 #include "sim/robot/kinematics.h"
 #include "sim/world/food_step.h"
+#include "sim/world/passive_coupling.h"
 #include "sim/world/safety_stage.h"
 #include "sim/world/snapshot.h"
 
@@ -30,21 +31,36 @@ void ApplyAction(const Model& model, const Action& action, State* state, StepRes
   result->ik = target.ik;
 }
 
+// The knife TCP's linear velocity (m/s, world frame) from the joint velocities.
+Eigen::Vector3d TcpVelocity(const Model& model, JointValues q_rad, JointValues qdot_rad_s) {
+  const Eigen::Vector3d in_base =
+      TipJacobian(model.robot, q_rad, model.tcp_in_last_link).topRows<3>() * qdot_rad_s;
+  return model.robot_base_in_world.linear() * in_base;
+}
+
 // Stage "robot", one physics step: the PD loop runs at the physics rate, a fresh velocity command
 // every substep on top of gravity compensation (as the Panda's own controller does), so the servo
-// only handles motion; nothing here allocates (the joint vectors hold their storage). With food, the food's wrench from the last physics step acts on the knife
-// and the speed resistance slows the servo while the knife is in the food (two-way coupling).
-void AdvanceRobot(const Model& model, State* state) {
+// only handles motion; nothing here allocates (the joint vectors hold their storage). With food, the
+// food's force from the last physics step acts on the knife, kept passive (passive_coupling.h), and
+// the speed resistance slows the servo while the knife is in the food (two-way coupling). Returns
+// the force the knife felt (N, world frame).
+Eigen::Vector3d AdvanceRobot(const Model& model, State* state) {
   const Eigen::Vector3d gravity_in_base = model.robot_base_in_world.linear().transpose() * model.layout.gravity_m_s2;
   const JointVector q = state->physics->JointPositions();
   state->physics->AddJointTorques(GravityTorques(model.robot, q, gravity_in_base));
   JointVector qdot_command = JointVelocityCommand(model, q, state->q_target_rad);
+  KnifeWrench felt;
   if (const FoodState* food = state->food.get()) {
-    state->physics->AddJointTorques(KnifeWrenchTorques(model, q, food->wrench));
+    felt.force_n = PassiveCouplingForce(food->wrench.force_n, TcpInWorld(model, q).linear(),
+                                        TcpVelocity(model, q, state->physics->JointVelocities()),
+                                        model.physics_timestep_s, food->coupling_absorbed_j);
+    felt.torque_nm = food->wrench.torque_nm;
+    state->physics->AddJointTorques(KnifeWrenchTorques(model, q, felt));
     qdot_command *= food->knife_speed_factor;
   }
   state->physics->SetJointVelocityCommand(qdot_command);
   state->physics->StepOnce();
+  return felt.force_n;
 }
 
 // The knife's peak force and cutting speed this episode (the safety ablation's measures): the force
@@ -123,15 +139,18 @@ StepResult Step(const Model& model, State* state, const Action& action, const Ca
   // The knife's pose at the start of each physics step is the pose at the end of the one before.
   Eigen::Isometry3d tcp_start = food ? TcpInWorld(model, state->physics->JointPositions()) : Eigen::Isometry3d::Identity();
   int saturated_in_contact = 0;  // physics steps with a motor at its effort limit, the knife in the food
+  Eigen::Vector3d felt_force_n = Eigen::Vector3d::Zero();  // the food's force on the knife this physics step, as the arm felt it
   for (int i = 0; i < model.substeps_per_control_step; ++i) {
     if (stop_here()) return result;
     {
       StageClock clock(&result.timings, Stage::kPhysics);
-      AdvanceRobot(model, state);
+      felt_force_n = AdvanceRobot(model, state);
     }
     if (!food) continue;
     StageClock clock(&result.timings, Stage::kMpm);
     const Eigen::Isometry3d tcp_end = TcpInWorld(model, state->physics->JointPositions());
+    BookCouplingWork(felt_force_n, tcp_start.linear(), tcp_end.translation() - tcp_start.translation(),
+                     &food->coupling_absorbed_j);
     const FoodStepReport food_report =
         AdvanceFood(*model.food, tcp_start, tcp_end, model.physics_timestep_s, food, cancelled);
     if (food_report.cancelled && stop_here()) return result;
