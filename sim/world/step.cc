@@ -15,12 +15,13 @@ Eigen::Isometry3d TcpInWorld(const Model& model, JointValues q_rad) {
   return model.robot_base_in_world * TipPose(model.robot, q_rad, model.tcp_in_last_link);
 }
 
-// Joint torques (N m) that put the food's wrench on the knife TCP: tau = J^T [f; t] (base frame).
-JointVector KnifeWrenchTorques(const Model& model, JointValues q_rad, const KnifeWrench& wrench) {
+// Joint torques (N m) that put the food's wrench on the knife TCP: tau = J^T [f; t] (base frame),
+// with `tcp_jacobian` the TCP's Jacobian at the joint positions now.
+JointVector KnifeWrenchTorques(const Model& model, const Jacobian& tcp_jacobian, const KnifeWrench& wrench) {
   const Eigen::Matrix3d world_to_base = model.robot_base_in_world.linear().transpose();
   Eigen::Matrix<double, 6, 1> wrench_in_base;
   wrench_in_base << world_to_base * wrench.force_n, world_to_base * wrench.torque_nm;
-  return TipJacobian(model.robot, q_rad, model.tcp_in_last_link).transpose() * wrench_in_base;
+  return tcp_jacobian.transpose() * wrench_in_base;
 }
 
 // Stage "apply action": the action becomes the joint targets the PD loop tracks.
@@ -32,30 +33,29 @@ void ApplyAction(const Model& model, const Action& action, State* state, StepRes
 }
 
 // The knife TCP's linear velocity (m/s, world frame) from the joint velocities.
-Eigen::Vector3d TcpVelocity(const Model& model, JointValues q_rad, JointValues qdot_rad_s) {
-  const Eigen::Vector3d in_base =
-      TipJacobian(model.robot, q_rad, model.tcp_in_last_link).topRows<3>() * qdot_rad_s;
-  return model.robot_base_in_world.linear() * in_base;
+Eigen::Vector3d TcpVelocity(const Model& model, const Jacobian& tcp_jacobian, JointValues qdot_rad_s) {
+  return model.robot_base_in_world.linear() * (tcp_jacobian.topRows<3>() * qdot_rad_s);
 }
 
 // Stage "robot", one physics step: the PD loop runs at the physics rate, a fresh velocity command
 // every substep on top of gravity compensation (as the Panda's own controller does), so the servo
 // only handles motion; nothing here allocates (the joint vectors hold their storage). With food, the
 // food's force from the last physics step acts on the knife, kept passive (passive_coupling.h), and
-// the speed resistance slows the servo while the knife is in the food (two-way coupling). Returns
-// the force the knife felt (N, world frame).
-Eigen::Vector3d AdvanceRobot(const Model& model, State* state) {
+// the speed resistance slows the servo while the knife is in the food (two-way coupling); `knife_axes`
+// is the TCP's orientation now (world frame). Returns the force the knife felt (N, world frame).
+Eigen::Vector3d AdvanceRobot(const Model& model, const Eigen::Matrix3d& knife_axes, State* state) {
   const Eigen::Vector3d gravity_in_base = model.robot_base_in_world.linear().transpose() * model.layout.gravity_m_s2;
   const JointVector q = state->physics->JointPositions();
   state->physics->AddJointTorques(GravityTorques(model.robot, q, gravity_in_base));
   JointVector qdot_command = JointVelocityCommand(model, q, state->q_target_rad);
   KnifeWrench felt;
   if (const FoodState* food = state->food.get()) {
-    felt.force_n = PassiveCouplingForce(food->wrench.force_n, TcpInWorld(model, q).linear(),
-                                        TcpVelocity(model, q, state->physics->JointVelocities()),
+    const Jacobian tcp_jacobian = TipJacobian(model.robot, q, model.tcp_in_last_link);
+    felt.force_n = PassiveCouplingForce(food->wrench.force_n, knife_axes,
+                                        TcpVelocity(model, tcp_jacobian, state->physics->JointVelocities()),
                                         model.physics_timestep_s, food->coupling_absorbed_j);
     felt.torque_nm = food->wrench.torque_nm;
-    state->physics->AddJointTorques(KnifeWrenchTorques(model, q, felt));
+    state->physics->AddJointTorques(KnifeWrenchTorques(model, tcp_jacobian, felt));
     qdot_command *= food->knife_speed_factor;
   }
   state->physics->SetJointVelocityCommand(qdot_command);
@@ -144,7 +144,7 @@ StepResult Step(const Model& model, State* state, const Action& action, const Ca
     if (stop_here()) return result;
     {
       StageClock clock(&result.timings, Stage::kPhysics);
-      felt_force_n = AdvanceRobot(model, state);
+      felt_force_n = AdvanceRobot(model, tcp_start.linear(), state);
     }
     if (!food) continue;
     StageClock clock(&result.timings, Stage::kMpm);
