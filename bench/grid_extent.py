@@ -12,18 +12,16 @@ from __future__ import annotations
 
 import argparse
 import json
-import subprocess
 import sys
 import tempfile
 from datetime import date
 from pathlib import Path
 
-from physics_validation import scene  # bench/ is on the path
+from physics_validation import run, scene  # bench/ is on the path
 from step_latency import machine_info
 
 ROOT = Path(__file__).resolve().parents[1]
 MARGINS = (1, 2, 3)
-STAGES = ("setup", "p2g", "grid", "g2p")
 # The robot's cutting speed (the slow cut of docs/accuracy.md) and the study's faster normal cut.
 CASES = {"cucumber, normal, 0.05 m/s": ("cucumber", 0.05), "banana, normal, 0.5 m/s": ("banana", 0.5)}
 
@@ -36,14 +34,10 @@ def standard_scene(food: str, speed_m_s: float, margin: int) -> dict:
 
 
 def cut(cc_cut: Path, spec: dict, workdir: Path) -> dict:
-    (workdir / "scene.json").write_text(json.dumps(spec))
-    subprocess.run([str(cc_cut), str(workdir / "scene.json"), "--out", str(workdir / "out"), "--threads", "1",
-                    "--quiet"], check=True)
-    summary = json.loads((workdir / "out" / "summary.json").read_text())["summary"]
-    return {"wall_s": summary["wall_time_ms"]["total"] / 1e3,
-            "stage_s": {s: summary["wall_time_ms"][s] / 1e3 for s in STAGES},
-            "peak_force_n": summary["peak_blade_force_n"], "cut_fraction": summary["cut_fractions"][0],
-            "pieces": len(summary["pieces"]), "substeps": summary["substeps"], "peak_mb": summary["peak_memory_mb"]}
+    r = run(cc_cut, spec, workdir)
+    return {"wall_s": r["solver_wall_s"], "stage_s": r["stage_s"], "peak_force_n": r["peak_blade_n"],
+            "cut_fraction": r["cut_fraction"], "pieces": r["pieces"], "substeps": r["substeps"],
+            "peak_mb": r["max_rss_mb"]}
 
 
 def measure(cc_cut: Path, repeats: int) -> dict:

@@ -55,7 +55,7 @@ struct SolverConfig {
   // kinetic energy stays small against its elastic energy; 1 = off.
   double mass_scaling = 1.0;
   // Empty cells around the particles' bounding box. One is all the stencils need (the box is refit
-  // every substep); more changed nothing but rounding and cost 4-5 % of a cut (docs/benchmarks/grid_extent.md).
+  // every substep); more changed nothing but rounding and cost 2-5 % of a cut (docs/benchmarks/grid_extent.md).
   int grid_margin_cells = 1;
   int threads = 1;                      // OpenMP threads; results do not depend on it
   Effects effects;
