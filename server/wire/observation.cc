@@ -1,5 +1,6 @@
 #include "server/wire/observation.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "server/wire/camera.h"
@@ -111,7 +112,11 @@ void SessionStatsToWire(const Model& model, const State& state, const StageTotal
     wire->set_mpm_cfl(model.food->resolution.cfl);
   }
   if (state.food && state.food->solver) {
-    wire->set_mpm_particles(state.food->solver->particles().size());
+    const mpm::Particles<float>& particles = state.food->solver->particles();
+    wire->set_mpm_particles(particles.size());
+    if (model.food->solver->config.activity.radius_m > 0.0) {
+      wire->set_mpm_frozen_particles(std::count(particles.activity.begin(), particles.activity.end(), mpm::kFrozen));
+    }
     wire->set_mpm_substeps(state.food->substeps);
     wire->set_has_contact(state.food->first_contact_frame.has_value());
     wire->set_first_contact_frame(state.food->first_contact_frame.value_or(0));

@@ -84,6 +84,7 @@ void MpmResolutionToWire(const MpmResolution& resolution, v1::MpmSettings* wire)
   wire->set_particles_per_cell(static_cast<std::uint32_t>(resolution.particles_per_cell));
   wire->set_cfl(resolution.cfl);
   wire->set_mass_scaling(resolution.mass_scaling);
+  wire->set_activity_radius(resolution.activity_radius_m);
 }
 
 void ExpectedAccuracyToWire(const MpmResolution& resolution, v1::ExpectedAccuracy* wire) {
@@ -122,6 +123,9 @@ SceneConfig SceneFromWire(const v1::SceneSpec& wire) {
   }
   if (mpm.cfl() != 0) config.mpm.cfl = FiniteFromWire(mpm.cfl(), "scene.mpm.cfl");
   if (mpm.mass_scaling() != 0) config.mpm.mass_scaling = FiniteFromWire(mpm.mass_scaling(), "scene.mpm.mass_scaling");
+  if (mpm.activity_radius() != 0) {
+    config.mpm.activity_radius_m = FiniteFromWire(mpm.activity_radius(), "scene.mpm.activity_radius");
+  }
   config.seed = wire.seed();
   if (!wire.quality().empty()) config.quality = TextFromWire(wire.quality(), "scene.quality");
   if (wire.has_accuracy_target()) config.accuracy_target = AccuracyTargetFromWire(wire.accuracy_target());

@@ -25,6 +25,11 @@ void PermuteShare(const std::vector<std::uint32_t>& order, const std::vector<T>&
   for (std::int64_t s = 0; s < static_cast<std::int64_t>(order.size()); ++s) {
     target[s] = source[from[s]];
   }
+  // Entries past the order (the frozen particles, which are not sorted) stay where they are.
+#pragma omp for schedule(static) nowait
+  for (std::int64_t s = static_cast<std::int64_t>(order.size()); s < static_cast<std::int64_t>(values.size()); ++s) {
+    target[s] = source[s];
+  }
 }
 
 // Calls f(array, spare array) for every per-particle array the reorder permutes.
@@ -44,15 +49,15 @@ void ForEachParticleArray(P& p, S& spare, B& blocks, F&& f) {
   f(p.cut_sides, spare.cut_sides);
   f(p.material, spare.material);
   f(p.object, spare.object);
+  f(p.activity, spare.activity);
   f(blocks.block_of, blocks.block_of_spare);
 }
 
 }  // namespace
 
 template <typename Real>
-void CountBlocks(const Particles<Real>& p, Real inv_dx, const Eigen::Vector3i& grid_origin,
+void CountBlocks(const Particles<Real>& p, std::size_t n, Real inv_dx, const Eigen::Vector3i& grid_origin,
                  const Eigen::Vector3i& grid_dims, ParticleBlocks* blocks) {
-  const std::size_t n = p.size();
   const Eigen::Vector3i counts = BlockCounts(grid_dims);
   const std::size_t block_count = static_cast<std::size_t>(counts.x()) * counts.y() * counts.z();
   // Per-thread histograms over contiguous particle ranges; ListBlocks then makes one prefix sum
@@ -208,9 +213,9 @@ void MarkBlocksNearSplit(const std::vector<std::size_t>& split_nodes,
   }
 }
 
-template void CountBlocks<float>(const Particles<float>&, float, const Eigen::Vector3i&,
+template void CountBlocks<float>(const Particles<float>&, std::size_t, float, const Eigen::Vector3i&,
                                  const Eigen::Vector3i&, ParticleBlocks*);
-template void CountBlocks<double>(const Particles<double>&, double, const Eigen::Vector3i&,
+template void CountBlocks<double>(const Particles<double>&, std::size_t, double, const Eigen::Vector3i&,
                                   const Eigen::Vector3i&, ParticleBlocks*);
 template void SizeBlockOrderSpares<float>(ParticleBlocks*, const Particles<float>&, Particles<float>*);
 template void SizeBlockOrderSpares<double>(ParticleBlocks*, const Particles<double>&,

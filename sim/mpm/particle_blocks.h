@@ -48,10 +48,10 @@ inline Eigen::Vector3i BlockCounts(const Eigen::Vector3i& grid_dims) {
 
 // The stable counting sort of the particles by the block of their stencil's first node (the order
 // depends only on the positions), in three steps:
-// Team: each thread counts the blocks of its share of the particles (`block_of` must have one
-// entry per particle and `thread_counts` one vector per thread); ends with a barrier.
+// Team: each thread counts the blocks of its share of the first `count` particles (`block_of` must
+// have an entry for each and `thread_counts` one vector per thread); ends with a barrier.
 template <typename Real>
-void CountBlocks(const Particles<Real>& particles, Real inv_dx, const Eigen::Vector3i& grid_origin,
+void CountBlocks(const Particles<Real>& particles, std::size_t count, Real inv_dx, const Eigen::Vector3i& grid_origin,
                  const Eigen::Vector3i& grid_dims, ParticleBlocks* blocks);
 // One thread of the team that counted (inside its parallel region): sets `counts`, the blocks'
 // offsets and the non-empty blocks by colour.

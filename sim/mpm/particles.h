@@ -15,6 +15,9 @@ namespace culinarycut::mpm {
 // Which side of the knife blade a particle is on (CPIC): set when the blade first comes near.
 enum class BladeSide : std::int8_t { kUnassigned = 0, kNegative = -1, kPositive = 1 };
 
+// Particles::activity of a frozen particle: not integrated, its stress a fixed load on the grid.
+inline constexpr std::uint8_t kFrozen = 255;
+
 // `Real` is float (speed) or double (verification); every solver is instantiated for both.
 template <typename Real>
 struct Particles {
@@ -34,6 +37,9 @@ struct Particles {
   std::vector<std::uint32_t> cut_sides;        // which side of each past cut (cut_record.h)
   std::vector<std::uint16_t> material;         // index into the solver's material table
   std::vector<std::uint16_t> object;           // index of the food object it was sampled from
+  // Activity (solver_config.h): consecutive quiet checks of a moving particle, or kFrozen. Frozen
+  // particles are stored after all the others.
+  std::vector<std::uint8_t> activity;
 
   std::size_t size() const { return mass.size(); }
 
@@ -58,6 +64,7 @@ struct Particles {
     cut_sides.push_back(0u);
     material.push_back(material_id);
     object.push_back(object_id);
+    activity.push_back(0);
   }
 };
 

@@ -27,6 +27,16 @@ void ValidateSolverConfig(const SolverConfig& config) {
   require(config.mass_scaling >= 1.0 && config.mass_scaling <= 1e4, "mass_scaling must lie in [1, 1e4]");
   require(config.grid_margin_cells >= 1, "grid_margin_cells must be >= 1");
   require(config.threads >= 1, "threads must be >= 1");
+  const Activity& activity = config.activity;
+  // Frozen food must stay clear of the nodes split by the blade (2 dx beside it) with its whole
+  // stencil (1.5 sqrt(3) dx), so the radius is at least 5 cells.
+  require(activity.radius_m == 0.0 || (activity.radius_m >= 5.0 * config.dx_m - 1e-12 &&
+                                       std::isfinite(activity.radius_m)),
+          "activity.radius_m must be 0 (off) or at least 5 dx");
+  require(activity.sleep_speed_m_s >= 0.0 && activity.wake_speed_m_s > activity.sleep_speed_m_s,
+          "need 0 <= activity.sleep_speed_m_s < activity.wake_speed_m_s");
+  require(activity.check_every_substeps >= 1 && activity.quiet_checks >= 1 && activity.quiet_checks < 255,
+          "activity.check_every_substeps must be >= 1 and activity.quiet_checks in [1, 254]");
   const CuttingParameters& cutting = config.cutting;
   require(cutting.band0_m > 0.0 && cutting.band_reference_dx_m > 0.0, "band0_m and "
           "band_reference_dx_m must be > 0");
@@ -41,7 +51,10 @@ void ValidateSolverConfig(const SolverConfig& config) {
 
 template <typename Real>
 Solver<Real>::Solver(std::shared_ptr<const SolverModel> model)
-    : model_(std::move(model)), grid_(std::make_unique<Grid>()), workspace_(std::make_unique<Workspace>()) {
+    : model_(std::move(model)),
+      grid_(std::make_unique<Grid>()),
+      workspace_(std::make_unique<Workspace>()),
+      frozen_(std::make_unique<FrozenLoad>()) {
   if (!model_) throw std::invalid_argument("solver: no model");
   ValidateSolverConfig(config());
   if (materials().empty()) throw std::invalid_argument("solver: give at least one material");
@@ -88,6 +101,7 @@ std::uint64_t Solver<Real>::substeps_taken() const {
 template <typename Real>
 void Solver<Real>::RestoreSubstepsTaken(std::uint64_t count) {
   workspace_->substeps_since_reorder = count;
+  frozen_->valid = false;  // the particles were restored with it: rebuild their load
 }
 
 template <typename Real>
@@ -205,11 +219,13 @@ void Solver<Real>::RunSubstepInTeam(const SubstepContext& context, SubstepShared
   if (shared->failed) return;
   end_stage(0);
 
-  // P2G: stress into each particle's affine momentum, then mass and momentum to the grid.
+  // P2G: stress into each particle's affine momentum, then mass and momentum to the grid, and the
+  // frozen particles' load.
   ScatterToGrid(context);  // ends with a barrier
-#pragma omp master
+#pragma omp single
   {
-    double elastic_energy_j = 0.0;
+    AddFrozenLoad(context);
+    double elastic_energy_j = frozen_->elastic_energy_j;
     for (const double energy : workspace_->elastic_energy_of_chunk) elastic_energy_j += energy;
     shared->elastic_energy_j = elastic_energy_j;
   }
@@ -220,6 +236,10 @@ void Solver<Real>::RunSubstepInTeam(const SubstepContext& context, SubstepShared
   ContactState own_contact;
   UpdateGrid(context, &own_contact);  // the node loop ends with a barrier
   end_stage(2);
+  // One thread looks for frozen food pushed by its neighbours while the others start G2P (which
+  // only reads the grid).
+#pragma omp single nowait
+  MarkPushedFrozenNodes(context);
 
   // G2P: velocity and affine field back, F update with J clamp, damage, tip force.
   GridToParticles(context, own_contact);  // no barrier: the region's end is one
@@ -240,6 +260,11 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     cut_progress_.current = std::min<std::uint32_t>(cut_progress_.cuts_made, kMaxRecordedCuts - 1);
   }
   const SubstepContext context = MakeContext(dt_s);
+  UpdateActivity(context);
+  if (active_count_ == 0) {  // all frozen: nothing moves, but the activity checks go on
+    ++workspace_->substeps_since_reorder;
+    return diagnostics;
+  }
 
   // One parallel region for the whole substep (one fork and join).
   // No smaller team for few particles: the results are the same bits on any team, and the tests'
@@ -254,9 +279,11 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     --workspace_->substeps_since_reorder;  // this substep did not happen
     std::rethrow_exception(shared.failed ? shared.error : shared.box_error);
   }
+  WakePushedFrozenParticles();
   shared.stage_ms[3] = std::chrono::duration<double, std::milli>(
                           std::chrono::steady_clock::now() - shared.g2p_start).count();
   diagnostics.grid_cells = grid_->dims;
+  diagnostics.active_particles = static_cast<std::int64_t>(active_count_);
   diagnostics.setup_ms = shared.stage_ms[0];
   diagnostics.p2g_ms = shared.stage_ms[1];
   diagnostics.grid_ms = shared.stage_ms[2];

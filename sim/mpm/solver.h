@@ -55,6 +55,7 @@ struct SubstepDiagnostics {
   Eigen::Vector3d external_impulse_n_s = Eigen::Vector3d::Zero();
   double momentum_residual = 0.0;
   Eigen::Vector3i grid_cells = Eigen::Vector3i::Zero();  // size of the grid box this substep
+  std::int64_t active_particles = 0;   // particles integrated this substep (the rest frozen: Activity)
   // Wall time of the stages (ms): setup (grid box, blade labels, block sort), P2G, grid, G2P.
   double setup_ms = 0.0;
   double p2g_ms = 0.0;
@@ -120,6 +121,9 @@ class Solver {
   std::uint64_t substeps_taken() const;
   void RestoreSubstepsTaken(std::uint64_t count);
 
+  // Particles integrated by the last substep; the rest are frozen (SolverConfig::activity).
+  std::size_t active_count() const { return active_count_; }
+
   // How many cuts the particles have recorded and whether one is under way (cut_record.h); a
   // snapshot keeps it so that a restored cut goes on recording into the same cut.
   const CutProgress& cut_progress() const { return cut_progress_; }
@@ -128,6 +132,7 @@ class Solver {
  private:
   struct Grid;        // the bounded grid box (solver_internals.h)
   struct Workspace;   // per-substep scratch arrays, reused (solver_internals.h)
+  struct FrozenLoad;  // what the frozen particles add to the grid (solver_internals.h)
 
   // The stages of Substep, in order; each file solver_<stage>.cc holds one. Substep runs them
   // all in one OpenMP parallel region: every thread of the team calls each stage, which shares its
@@ -146,12 +151,19 @@ class Solver {
   void SortParticlesIntoBlocks(const SubstepContext& context, const Eigen::Vector3i& origin,
                                const Eigen::Vector3i& dims,
                                SubstepShared* shared);        // solver_grid_box.cc, team
-  double ComputeAffineMomentum(const SubstepContext& context,
-                               std::size_t chunk);            // solver_stress.cc; returns J
+  double ComputeAffineMomentum(const SubstepContext& context, std::size_t begin,
+                               std::size_t end, bool frozen_load = false);  // solver_stress.cc; J
   void ScatterToGrid(const SubstepContext& context);          // solver_p2g.cc, team
   void UpdateGrid(const SubstepContext& context, ContactState* contact);  // solver_grid_update.cc
   void GridToParticles(const SubstepContext& context,
                        const ContactState& contact);          // solver_g2p.cc, team
+  // Activity (solver_activity.cc): before the team, freezes quiet particles far from the blade and
+  // wakes those it nears or that were pushed, keeping the frozen ones last; rebuilds their load.
+  void UpdateActivity(const SubstepContext& context);
+  void BuildFrozenLoad(const SubstepContext& context);
+  void AddFrozenLoad(const SubstepContext& context);          // one thread, after P2G
+  void MarkPushedFrozenNodes(const SubstepContext& context);   // one thread, after the grid update
+  void WakePushedFrozenParticles();                           // after the team
 
   std::shared_ptr<const SolverModel> model_;  // shared, never copied
   Particles<Real> particles_;
@@ -160,6 +172,8 @@ class Solver {
   std::optional<HalfSpaceSdf> table_;
   std::unique_ptr<Grid> grid_;
   std::unique_ptr<Workspace> workspace_;
+  std::unique_ptr<FrozenLoad> frozen_;
+  std::size_t active_count_ = 0;  // particles [0, active_count_) are integrated
   CutProgress cut_progress_;
 };
 

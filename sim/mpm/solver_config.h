@@ -39,6 +39,20 @@ struct CuttingParameters {
   double tip_band_cells = 1.0;      // how close to the edge (in dx) the tip force acts
 };
 
+// Activity (simulate only what the cut calls for, inside one food): food farther than radius_m
+// from the blade that has come to rest is frozen, its stress a fixed load on the grid, until the
+// blade comes near or its neighbours move it. Frozen food cannot sag, bend or rock: the price is
+// measured in docs/accuracy.md. 0 = off: every particle is integrated every substep.
+struct Activity {
+  double radius_m = 0.0;             // from the blade's bounding box; 0 = off, else >= 5 dx
+  // A particle may freeze once its speed and |C_ij| dx stay below the sleep speed; food under a slow
+  // knife (0.05 m/s) moves at a few mm/s throughout, so lower values freeze next to nothing.
+  double sleep_speed_m_s = 3e-3;
+  double wake_speed_m_s = 1e-2;      // a frozen particle wakes when a node it shares moves faster
+  int check_every_substeps = 16;     // how often particles are checked (sooner for a fast knife)
+  int quiet_checks = 4;              // consecutive quiet checks before a particle freezes
+};
+
 struct SolverConfig {
   double dx_m = 0.004;                  // grid spacing
   double cfl = 0.2;                     // dt <= cfl dx / c (paper: 0.2)
@@ -58,6 +72,7 @@ struct SolverConfig {
   // every substep); more changed nothing but rounding and cost 2-5 % of a cut (docs/benchmarks/grid_extent.md).
   int grid_margin_cells = 1;
   int threads = 1;                      // OpenMP threads; results do not depend on it
+  Activity activity;
   Effects effects;
   CuttingParameters cutting;
 

@@ -79,7 +79,7 @@ void Solver<Real>::GridToParticles(const SubstepContext& context, const ContactS
   Workspace& work = *workspace_;
   const CuttingParameters& cutting = config().cutting;
   const ParticleBlocks& blocks = work.blocks;
-  const std::size_t n = p.size();
+  const std::size_t n = active_count_;  // the frozen particles (stored last) stay as they are
   const double dt_s = context.dt_s;
   const double dx = context.dx_m;
   const double band_m = context.band_m;

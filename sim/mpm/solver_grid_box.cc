@@ -61,7 +61,7 @@ std::array<Real, 7> ChunkBounds(const Particles<Real>& p, std::size_t begin, std
 template <typename Real>
 void Solver<Real>::PrepareWorkspace(int team) {
   Workspace& work = *workspace_;
-  const std::size_t n = particles_.size();
+  const std::size_t n = active_count_;  // the frozen particles (stored last) are not integrated
   const std::size_t chunks = ChunkCount(n);
   work.chunk_bounds.resize(chunks);
   work.momentum_of_chunk.assign(chunks, Eigen::Vector3d::Zero());
@@ -95,7 +95,7 @@ template <typename Real>
 void Solver<Real>::ScanParticles(const SubstepContext& context) {
   Particles<Real>& p = particles_;
   Workspace& work = *workspace_;
-  const std::size_t n = p.size();
+  const std::size_t n = active_count_;
   const bool sense_force = config().effects.force_sensing;
 #pragma omp for schedule(dynamic, 1)
   for (std::int64_t c = 0; c < static_cast<std::int64_t>(ChunkCount(n)); ++c) {
@@ -161,7 +161,7 @@ void Solver<Real>::SortParticlesIntoBlocks(const SubstepContext& context,
                                            const Eigen::Vector3i& dims, SubstepShared* shared) {
   Workspace& work = *workspace_;
   Grid& grid = *grid_;
-  CountBlocks(particles_, Real(1.0 / context.dx_m), origin, dims, &work.blocks);  // a barrier
+  CountBlocks(particles_, active_count_, Real(1.0 / context.dx_m), origin, dims, &work.blocks);  // a barrier
   auto guarded = [shared](auto&& job) {
     try {
       job();
@@ -195,7 +195,7 @@ void Solver<Real>::SortParticlesIntoBlocks(const SubstepContext& context,
   if (shared->failed) return;  // read by every thread after the sections' barrier
   // Without a reorder, nothing waits for the whole order but the scatter's blocks, which come
   // after the stress chunks in P2G's queue: no barrier here, they wait for sorted_threads.
-  PlaceInBlocks(particles_.size(), &work.blocks, work.reorder_now ? nullptr : &work.sorted_threads);
+  PlaceInBlocks(active_count_, &work.blocks, work.reorder_now ? nullptr : &work.sorted_threads);
   if (work.reorder_now) {
     StoreInBlockOrder(&work.blocks, &particles_, &work.reorder_spare);
     work.sorted_threads.fetch_add(1, std::memory_order_relaxed);  // after barriers: all see it

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <exception>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -82,6 +83,19 @@ struct Solver<Real>::Workspace {
   std::uint32_t stamp = 0;
   ContactMaterials contact_materials;        // each food's friction and speed resistance at the colliders
   bool contact_materials_ready = false;
+};
+
+// What the frozen particles (SolverConfig::activity) add to the grid every substep: their mass
+// and their stress's force on the nodes of their own box, rebuilt whenever the frozen set changes.
+template <typename Real>
+struct Solver<Real>::FrozenLoad {
+  bool valid = false;                             // built from the particles frozen now
+  Eigen::Vector3i origin = Eigen::Vector3i::Zero();  // global index of node (0, 0, 0)
+  Eigen::Vector3i dims = Eigen::Vector3i::Zero();
+  std::vector<Vector4<Real>> node;                // (force x, y, z (N), mass (kg))
+  std::vector<std::uint8_t> pushed;               // 1: moving food pushed this node past the wake speed
+  bool any_pushed = false;
+  double elastic_energy_j = 0.0;                  // the frozen particles' (it does not change)
 };
 
 // What one substep's team shares beyond the workspace: results the stages hand on, the first

@@ -88,7 +88,7 @@ void Solver<Real>::ScatterToGrid(const SubstepContext& context) {
   const Eigen::Vector3i dims = grid.dims;
 
   Workspace& work = *workspace_;
-  const std::size_t chunks = ChunkCount(p.size());
+  const std::size_t chunks = ChunkCount(active_count_);
   const std::uint32_t* const by_colour = blocks.by_colour.data();
   const std::int64_t items = static_cast<std::int64_t>(chunks + blocks.by_colour.size());
   const std::uint32_t stamp = work.stamp;
@@ -124,7 +124,9 @@ void Solver<Real>::ScatterToGrid(const SubstepContext& context) {
     const std::int64_t item = work.next_item.fetch_add(1, std::memory_order_relaxed);
     if (item >= items) break;
     if (item < static_cast<std::int64_t>(chunks)) {
-      work.elastic_energy_of_chunk[item] = ComputeAffineMomentum(context, item);
+      const std::size_t begin = static_cast<std::size_t>(item) * kChunk;
+      work.elastic_energy_of_chunk[item] =
+          ComputeAffineMomentum(context, begin, std::min(active_count_, begin + kChunk));
       MarkDone(chunk_done + item, stamp);
       continue;
     }

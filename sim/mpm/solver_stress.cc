@@ -17,13 +17,16 @@ constexpr std::size_t kPrefetchAhead = 128;  // particles; prefetching past an a
 
 }  // namespace
 
-// One chunk of kChunk particles (P2G's scatter takes the chunks and then the blocks from one queue).
+// Particles [begin, end), a chunk of at most kChunk (P2G's scatter takes the chunks and then the
+// blocks from one queue). For the frozen load (`frozen_load`), a particle at rest has relaxed: the
+// return to the yield surface is complete whatever dt, and it is not stored (the load is then a
+// function of the frozen particles alone, the same whenever it is rebuilt).
 template <typename Real>
-double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context, std::size_t chunk) {
+double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context, std::size_t begin,
+                                           std::size_t end, bool frozen_load) {
   Particles<Real>& p = particles_;
   Workspace& work = *workspace_;
   const Effects& effects = config().effects;
-  const std::size_t n = p.size();
   const double dt_s = context.dt_s;
   const Real dt = Real(dt_s);
   const Real dx = Real(context.dx_m);
@@ -47,12 +50,13 @@ double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context, std::s
   auto plastic_return = [&](std::size_t q, const Matrix3<Real>& R, Matrix3<Real>* F) {
     const Material& material = materials()[p.material[q]];
     if (!effects.plasticity || material.yield_stress_pa <= 0.0) return false;
-    const Real fraction = material.viscoplastic_relaxation_time_s > 0.0
+    const Real fraction = material.viscoplastic_relaxation_time_s > 0.0 && !frozen_load
                               ? Real(dt_s / (material.viscoplastic_relaxation_time_s + dt_s))
                               : Real(1);
     const Real plastic = ReturnToYieldSurface(F, R, Real(material.yield_stress_pa),
                                               Real(material.shear_modulus_pa()), fraction);
     if (plastic <= Real(0)) return false;
+    if (frozen_load) return true;
     p.plastic_strain[q] += plastic;
     for (int k = 0; k < 9; ++k) p.F[k][q] = (*F)(k / 3, k % 3);
     return true;
@@ -102,10 +106,9 @@ double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context, std::s
   }
   constexpr int kLanes = 8;  // particles whose polar rotations are computed together (SIMD)
   {
-    const std::size_t c = chunk;
     double chunk_energy = 0.0;
-    const std::size_t end_q = std::min(n, (c + 1) * kChunk);
-    std::size_t q = c * kChunk;
+    const std::size_t end_q = end;
+    std::size_t q = begin;
     for (; q + kLanes <= end_q; q += kLanes) {
       Real F_lanes[9][kLanes], R_lanes[9][kLanes], C_lanes[9][kLanes], affine_lanes[9][kLanes];
       Real mu[kLanes], lambda[kLanes], lambda_undamaged[kLanes], volume_scale[kLanes], mass[kLanes],
@@ -161,7 +164,7 @@ double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context, std::s
   }
 }
 
-template double Solver<float>::ComputeAffineMomentum(const SubstepContext&, std::size_t);
-template double Solver<double>::ComputeAffineMomentum(const SubstepContext&, std::size_t);
+template double Solver<float>::ComputeAffineMomentum(const SubstepContext&, std::size_t, std::size_t, bool);
+template double Solver<double>::ComputeAffineMomentum(const SubstepContext&, std::size_t, std::size_t, bool);
 
 }  // namespace culinarycut::mpm

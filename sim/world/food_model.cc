@@ -123,6 +123,7 @@ FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout)
   solver.dx_m = resolution.dx_m;
   solver.cfl = resolution.cfl;
   solver.mass_scaling = resolution.mass_scaling;
+  solver.activity.radius_m = resolution.activity_radius_m;
   solver.gravity_m_s2 = layout.gravity_m_s2;
   solver.effects.plasticity = config.effects.plasticity;
   solver.effects.damage = config.effects.damage;

@@ -13,7 +13,7 @@ bool Same(double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(std::a
 
 bool SameSetting(const MpmResolution& a, const MpmResolution& b) {
   return Same(a.dx_m, b.dx_m) && a.particles_per_cell == b.particles_per_cell && Same(a.cfl, b.cfl) &&
-         Same(a.mass_scaling, b.mass_scaling);
+         Same(a.mass_scaling, b.mass_scaling) && Same(a.activity_radius_m, b.activity_radius_m);
 }
 
 struct Bound {
@@ -82,6 +82,7 @@ std::string SettingLabel(const MpmResolution& resolution) {
   std::ostringstream label;
   label << "dx " << resolution.dx_m * 1e3 << " mm, " << resolution.particles_per_cell << " ppc, CFL " << resolution.cfl;
   if (resolution.mass_scaling != 1.0) label << ", mass x" << resolution.mass_scaling;
+  if (resolution.activity_radius_m != 0.0) label << ", activity " << resolution.activity_radius_m * 1e3 << " mm";
   return label.str();
 }
 

@@ -169,6 +169,7 @@ std::shared_ptr<const Model> CompileModel(const SceneConfig& config, const Robot
     HashBytes(&hash, &model->food->solver->config.dx_m, sizeof(double));
     HashBytes(&hash, &model->food->solver->config.cfl, sizeof(double));
     HashBytes(&hash, &model->food->solver->config.mass_scaling, sizeof(double));
+    HashBytes(&hash, &model->food->solver->config.activity.radius_m, sizeof(double));
   }
   model->fingerprint = hash;
   return model;

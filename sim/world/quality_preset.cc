@@ -67,6 +67,15 @@ MpmResolution ResolveMpmResolution(const std::string& quality, const std::option
     }
     resolution.mass_scaling = *overrides.mass_scaling;
   }
+  if (overrides.activity_radius_m) {
+    const double radius_m = *overrides.activity_radius_m;
+    if (!(radius_m == 0.0 || (radius_m >= 5.0 * resolution.dx_m - 1e-12 && radius_m <= 1.0))) {
+      error << "scene.mpm.activity_radius must be 0 (off) or in [5 dx, 1] m = [" << 5.0 * resolution.dx_m
+            << ", 1] m, got " << radius_m;
+      throw SceneError(error.str());
+    }
+    resolution.activity_radius_m = radius_m;
+  }
   return resolution;
 }
 

@@ -15,6 +15,7 @@ struct MpmResolution {
   int particles_per_cell = 8;   // per dx^3 cell
   double cfl = 0.2;             // dt = cfl dx / wave speed
   double mass_scaling = 1.0;    // inertia multiplier (sim/mpm/solver_config.h); 1 = real mass
+  double activity_radius_m = 0.0;  // food this far from the knife may freeze (solver_config.h); 0 = off
 };
 
 // draft: fast enough for tests and quick looks; standard: the paper's resolution; fine: studies.

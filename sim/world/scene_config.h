@@ -62,6 +62,7 @@ struct MpmResolutionConfig {
   std::optional<int> particles_per_cell;
   std::optional<double> cfl;
   std::optional<double> mass_scaling;
+  std::optional<double> activity_radius_m;
 };
 
 // An accuracy target in place of a preset (docs/accuracy.md): the cheapest setting the accuracy study

@@ -52,6 +52,7 @@ void VisitParticles(Archive& archive, ParticlesT& p, std::size_t count) {
   archive.Array("food.cut_sides", p.cut_sides, count);
   archive.Array("food.material", p.material, count);
   archive.Array("food.object", p.object, count);
+  archive.Array("food.activity", p.activity, count);
 }
 
 template <typename Archive>

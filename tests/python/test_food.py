@@ -37,6 +37,8 @@ def test_food_scenes_are_checked_with_the_field_named(client):
         client.create_session({**cutting_scene(CUCUMBER), "mpm": {"dx": 1.0}})
     with pytest.raises(errors.InvalidArgument, match="scene.mpm.mass_scaling"):
         client.create_session({**cutting_scene(CUCUMBER), "mpm": {"mass_scaling": 0.5}})
+    with pytest.raises(errors.InvalidArgument, match=r"scene.mpm.activity_radius must be 0 \(off\) or in \[5 dx"):
+        client.create_session({**cutting_scene(CUCUMBER), "mpm": {"activity_radius": 0.01}})  # draft dx: 8 mm
 
 
 def test_mass_scaling_is_echoed_and_cuts_in_fewer_substeps(client):
@@ -59,11 +61,31 @@ def test_mass_scaling_is_echoed_and_cuts_in_fewer_substeps(client):
     assert 0 < substeps[16.0] <= 0.35 * substeps[1.0], substeps
 
 
+def test_activity_is_echoed_and_the_oracle_still_cuts_in_two(client):
+    """Food 5 cells from the knife may freeze (SceneSpec mpm.activity_radius): the oracle's cut still makes two pieces."""
+    handshake = client.create_session({**cutting_scene(CUCUMBER), "mpm": {"activity_radius": 0.04}})
+    assert handshake.resolved_scene.mpm.activity_radius == pytest.approx(0.04)
+    assert "activity 40 mm" in handshake.resolved_scene.expected_accuracy.setting
+    session = handshake.session_id
+    client.reset(session, seed=3)
+    oracle = ScriptedOracle(client, session)
+    oracle.reset("cut the cucumber in the middle")
+    response, most_frozen = None, 0
+    while not oracle.finished:
+        response = client.step(session, *oracle.act())
+        stats = client.session_stats(session)
+        most_frozen = max(most_frozen, stats.mpm_frozen_particles)
+    assert len(food_to_dict(response.observation)["pieces"]) == 2
+    assert 0 < most_frozen < stats.mpm_particles  # part of the food froze while the knife was elsewhere
+    client.close_session(session)
+
+
 def test_the_resolved_scene_places_the_food_and_names_the_resolution(client):
     handshake = client.create_session(cutting_scene(CUCUMBER))
     scene = handshake.resolved_scene
     assert scene.mpm.dx == pytest.approx(0.008) and scene.mpm.particles_per_cell == 4
     assert scene.mpm.mass_scaling == 1.0  # real mass unless asked
+    assert scene.mpm.activity_radius == 0.0  # every particle integrated unless asked
     position = np.asarray(scene.objects[0].pose.position)
     assert position[2] > 0.02  # resting on the board, whose top is at z = 0.02 m
     client.close_session(handshake.session_id)
@@ -149,9 +171,11 @@ def test_an_oracle_cut_splits_the_cucumber_and_loads_the_wrist_only_in_contact(c
     client.close_session(session)
 
 
-def test_restore_then_replay_gives_identical_force_traces(client):
-    """Snapshot in the middle of a cut; the replayed steps give bit-identical wrenches and pieces."""
-    session = client.create_session(cutting_scene(CUCUMBER)).session_id
+@pytest.mark.parametrize("mpm", [{}, {"activity_radius": 0.04}], ids=["every particle", "activity"])
+def test_restore_then_replay_gives_identical_force_traces(client, mpm):
+    """Snapshot in the middle of a cut; the replayed steps give bit-identical wrenches and pieces (with activity
+    too: which particles are frozen travels in the snapshot)."""
+    session = client.create_session({**cutting_scene(CUCUMBER), "mpm": mpm}).session_id
     client.reset(session, seed=5)
     oracle = ScriptedOracle(client, session)
     oracle.reset("cut the cucumber in the middle")

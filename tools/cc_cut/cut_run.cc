@@ -98,6 +98,7 @@ CutSummary RunCut(const CutModel& model, const CutStepCallback& on_step) {
   double window_s = 0.0;
   double time_s = 0.0;
   double substep_ms = 0.0;
+  double active_particle_steps = 0.0;  // sum over substeps of the particles integrated
   while (true) {
     if (time_s >= path.max_time_s) {
       summary.hit_time_limit = true;
@@ -164,6 +165,7 @@ CutSummary RunCut(const CutModel& model, const CutStepCallback& on_step) {
     summary.j_max = std::max(summary.j_max, d.j_max);
     summary.j_clamps += d.j_clamps;
     summary.speed_caps += d.speed_caps;
+    active_particle_steps += static_cast<double>(d.active_particles);
     if (d.force_on_blade_n.squaredNorm() > 0.0) {
       kinetic_in_contact_j_s += d.kinetic_energy_j * dt;
       elastic_in_contact_j_s += d.elastic_energy_j * dt;
@@ -191,6 +193,10 @@ CutSummary RunCut(const CutModel& model, const CutStepCallback& on_step) {
     }
   }
   summary.sim_time_s = time_s;
+  if (summary.substeps > 0 && summary.particles > 0) {
+    summary.active_particle_fraction =
+        active_particle_steps / (static_cast<double>(summary.substeps) * static_cast<double>(summary.particles));
+  }
   if (elastic_in_contact_j_s > 0.0) summary.kinetic_to_elastic_energy = kinetic_in_contact_j_s / elastic_in_contact_j_s;
   const Eigen::Vector3d mismatch = summary.momentum_change_n_s - summary.external_impulse_n_s;
   summary.momentum_mismatch =

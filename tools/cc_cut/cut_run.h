@@ -63,6 +63,9 @@ struct CutSummary {
   // The food's kinetic over its elastic energy, each integrated over the substeps the blade pushes
   // on it: mass scaling (sim/mpm/solver_config.h) stays quasi-static while this is small (< 0.1).
   double kinetic_to_elastic_energy = 0.0;
+  // Particles integrated per substep over all particles, averaged over the substeps: below 1 where
+  // activity (SceneSpec mpm.activity_radius) froze food far from the knife.
+  double active_particle_fraction = 1.0;
   // Wall time (ms).
   double compile_ms = 0.0;  // the food model, sampling included
   double setup_ms = 0.0;

@@ -55,6 +55,10 @@ void ReadSolver(const json& object, SolverOverrides* solver) {
   const std::vector<double> gravity = reader.Numbers("gravity_m_s2", 3);
   if (!gravity.empty()) solver->gravity_m_s2 = Eigen::Vector3d(gravity[0], gravity[1], gravity[2]);
   reader.Integer("grid_margin_cells", &solver->grid_margin_cells, 1, 1000);
+  reader.Number("activity_sleep_speed_m_s", &solver->activity_sleep_speed_m_s, NonNegative());
+  reader.Number("activity_wake_speed_m_s", &solver->activity_wake_speed_m_s, Positive());
+  reader.Integer("activity_check_every_substeps", &solver->activity_check_every_substeps, 1, 100000);
+  reader.Integer("activity_quiet_checks", &solver->activity_quiet_checks, 1, 254);
   reader.Bool("two_sided_blade", &solver->two_sided_blade);
   if (const json* cutting = reader.Object("cutting")) ReadCutting(*cutting, &solver->cutting);
   reader.Finish(kMovedSolverKeys);
@@ -97,6 +101,10 @@ json SolverJson(const SolverOverrides& s) {
   Put(&solver, "grid_damping_per_s", s.grid_damping_per_s);
   if (s.gravity_m_s2) solver["gravity_m_s2"] = {s.gravity_m_s2->x(), s.gravity_m_s2->y(), s.gravity_m_s2->z()};
   Put(&solver, "grid_margin_cells", s.grid_margin_cells);
+  Put(&solver, "activity_sleep_speed_m_s", s.activity_sleep_speed_m_s);
+  Put(&solver, "activity_wake_speed_m_s", s.activity_wake_speed_m_s);
+  Put(&solver, "activity_check_every_substeps", s.activity_check_every_substeps);
+  Put(&solver, "activity_quiet_checks", s.activity_quiet_checks);
   Put(&solver, "two_sided_blade", s.two_sided_blade);
   const CuttingOverrides& c = s.cutting;
   json cutting = json::object();

@@ -20,6 +20,10 @@ void ApplySolverOverrides(const SolverOverrides& overrides, mpm::SolverConfig* c
   Set(overrides.grid_damping_per_s, &config->grid_damping_per_s);
   Set(overrides.gravity_m_s2, &config->gravity_m_s2);
   Set(overrides.grid_margin_cells, &config->grid_margin_cells);
+  Set(overrides.activity_sleep_speed_m_s, &config->activity.sleep_speed_m_s);
+  Set(overrides.activity_wake_speed_m_s, &config->activity.wake_speed_m_s);
+  Set(overrides.activity_check_every_substeps, &config->activity.check_every_substeps);
+  Set(overrides.activity_quiet_checks, &config->activity.quiet_checks);
   Set(overrides.two_sided_blade, &config->effects.two_sided_blade);
   const CuttingOverrides& cutting = overrides.cutting;
   mpm::CuttingParameters& out = config->cutting;

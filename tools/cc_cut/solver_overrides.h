@@ -36,6 +36,11 @@ struct SolverOverrides {
   std::optional<double> grid_damping_per_s;
   std::optional<Eigen::Vector3d> gravity_m_s2;
   std::optional<int> grid_margin_cells;
+  // Activity's thresholds (sim/mpm/solver_config.h); its radius is the scene's mpm.activity_radius.
+  std::optional<double> activity_sleep_speed_m_s;
+  std::optional<double> activity_wake_speed_m_s;
+  std::optional<int> activity_check_every_substeps;
+  std::optional<int> activity_quiet_checks;
   std::optional<bool> two_sided_blade;
   CuttingOverrides cutting;
 };

@@ -47,6 +47,7 @@ struct CutResult {
   std::vector<double> edge_force_z_n;    // per substep: the edge's part of the blade force
   std::vector<double> knife_height_m;    // edge height per substep
   std::vector<double> dt_s;              // per substep
+  std::vector<std::int64_t> active_particles;  // per substep: those integrated (activity)
   std::vector<double> residuals;
 };
 
@@ -145,6 +146,7 @@ CutResult RunCut(const CutScenario& scenario, Solver<Real>* solver) {
     result.edge_force_z_n.push_back(d.force_on_edge_n.z());
     result.knife_height_m.push_back(lifting ? std::numeric_limits<double>::quiet_NaN() : height);
     result.dt_s.push_back(dt);
+    result.active_particles.push_back(d.active_particles);
     result.j_min = std::min(result.j_min, d.j_min);
     result.j_max = std::max(result.j_max, d.j_max);
     result.max_kinetic_energy_j = std::max(result.max_kinetic_energy_j, d.kinetic_energy_j);

@@ -1,0 +1,292 @@
+// Activity: only the food near the blade, or moving, is integrated (SolverConfig::activity). A
+// particle far from the blade that has stayed quiet for a few checks freezes: it keeps its place
+// and deformation, and its mass and stress force go on acting on the grid as a fixed load, so the
+// food beside it still leans on it. It wakes when the blade comes within the radius or a grid node
+// it shares with moving food moves faster than the wake speed. Frozen particles are stored after
+// the moving ones, so every stage of the substep runs over [0, active_count_) unchanged.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "sim/mpm/solver_internals.h"
+#include "sim/mpm/transfer_stencil.h"
+
+namespace culinarycut::mpm {
+namespace {
+
+// Distance (m) from a point in a box's frame to the box (centre, half sizes); 0 inside.
+double BoxDistance(const Eigen::Vector3d& local_m, const Eigen::Vector3d& center_m,
+                   const Eigen::Vector3d& half_m) {
+  return ((local_m - center_m).cwiseAbs() - half_m).cwiseMax(0.0).norm();
+}
+
+// Distance (m) from a world point to the knife (blade or handle box), in the TCP frame.
+double KnifeDistance(const KnifeSdf& knife, const Eigen::Vector3d& world_m) {
+  const KnifeGeometry& g = knife.geometry();
+  const Eigen::Vector3d local = knife.ToTcpFrame(world_m);
+  const double blade = BoxDistance(local, Eigen::Vector3d(0.0, 0.0, -0.5 * g.blade_height_m),
+                                   Eigen::Vector3d(0.5 * g.blade_length_m, 0.5 * knife.effective_thickness_m(),
+                                                   0.5 * g.blade_height_m));
+  const double handle = BoxDistance(local, g.handle_center_in_tcp_m, 0.5 * g.handle_size_m);
+  return std::min(blade, handle);
+}
+
+}  // namespace
+
+template <typename Real>
+void Solver<Real>::UpdateActivity(const SubstepContext& context) {
+  Particles<Real>& p = particles_;
+  const std::size_t n = p.size();
+  const Activity& activity = config().activity;
+  FrozenLoad& frozen = *frozen_;
+  if (activity.radius_m <= 0.0 || !knife_) {
+    active_count_ = n;  // off: every particle moves, whatever its activity field says
+    frozen.valid = false;
+    return;
+  }
+  if (p.activity.size() != n) p.activity.resize(n, 0);  // particles built field by field
+  // The frozen particles must be the last ones; those woken after the last substep (pushed), a
+  // restored snapshot's or new particles may break that.
+  std::size_t first_frozen = n;
+  for (std::size_t q = 0; q < n; ++q) {
+    if (p.activity[q] == kFrozen) {
+      first_frozen = q;
+      break;
+    }
+  }
+  bool partitioned = true;
+  for (std::size_t q = first_frozen; q < n && partitioned; ++q) partitioned = p.activity[q] == kFrozen;
+
+  // Checked every few substeps; sooner for a fast knife, which must not cross more than a cell
+  // between checks (the radius keeps 5 cells between the blade and frozen food).
+  const KnifeSdf& knife = *knife_;
+  const double knife_speed_m_s = knife.motion().linear_velocity_m_s.norm() +
+                                 knife.motion().angular_velocity_rad_s.norm() *
+                                     (0.5 * knife.geometry().blade_length_m + knife.geometry().blade_height_m);
+  const double steps_per_cell = knife_speed_m_s > 0.0 ? context.dx_m / (knife_speed_m_s * context.dt_s) : 1e9;
+  const std::uint64_t every = static_cast<std::uint64_t>(
+      std::clamp(std::floor(steps_per_cell), 1.0, double(activity.check_every_substeps)));
+  const bool scheduled = workspace_->substeps_since_reorder % every == 0;
+  bool changed = !partitioned;
+  if (scheduled) {
+    const double dx = context.dx_m;
+    const Real sleep_speed = Real(activity.sleep_speed_m_s);
+    const Real sleep_speed_sq = sleep_speed * sleep_speed;
+    const Real sleep_c = Real(activity.sleep_speed_m_s / dx);  // |C_ij| dx below the sleep speed
+    const double sleep_radius_m = activity.radius_m + dx;      // hysteresis: a cell further out
+    for (std::size_t q = 0; q < n; ++q) {
+      const Eigen::Vector3d x(p.position[0][q], p.position[1][q], p.position[2][q]);
+      std::uint8_t& state = p.activity[q];
+      if (state == kFrozen) {
+        if (KnifeDistance(knife, x) < activity.radius_m) {
+          state = 0;
+          changed = true;
+        }
+        continue;
+      }
+      bool quiet = SquaredSpeed(p.velocity[0][q], p.velocity[1][q], p.velocity[2][q]) < sleep_speed_sq;
+
+      for (int k = 0; k < 9 && quiet; ++k) quiet = std::abs(p.C[k][q]) < sleep_c;
+      quiet = quiet && KnifeDistance(knife, x) > sleep_radius_m;
+      state = quiet ? static_cast<std::uint8_t>(state + 1) : std::uint8_t(0);
+      if (state >= activity.quiet_checks) {
+        // Frozen at rest: its velocity and affine field are dropped (below the sleep speed).
+        state = kFrozen;
+        for (int axis = 0; axis < 3; ++axis) p.velocity[axis][q] = Real(0);
+        for (int k = 0; k < 9; ++k) p.C[k][q] = Real(0);
+        changed = true;
+      }
+    }
+  }
+  if (changed) {
+    // Stable partition, the moving particles first, by the block reorder's permutation.
+    ParticleBlocks& blocks = workspace_->blocks;
+    blocks.order.clear();
+    for (std::size_t q = 0; q < n; ++q) {
+      if (p.activity[q] != kFrozen) blocks.order.push_back(static_cast<std::uint32_t>(q));
+    }
+    active_count_ = blocks.order.size();
+    for (std::size_t q = 0; q < n; ++q) {
+      if (p.activity[q] == kFrozen) blocks.order.push_back(static_cast<std::uint32_t>(q));
+    }
+    blocks.block_of.resize(n);
+    SizeBlockOrderSpares(&blocks, p, &workspace_->reorder_spare);
+    StoreInBlockOrder(&blocks, &p, &workspace_->reorder_spare);  // one thread: no team here
+    frozen.valid = false;
+  } else {
+    active_count_ = first_frozen;
+  }
+  if (!frozen.valid) BuildFrozenLoad(context);
+}
+
+// The frozen particles' mass and stress force on the nodes of their own box: P2G's stress pass
+// at zero velocity and affine field, whose momentum is dt times the force.
+template <typename Real>
+void Solver<Real>::BuildFrozenLoad(const SubstepContext& context) {
+  Particles<Real>& p = particles_;
+  FrozenLoad& frozen = *frozen_;
+  Workspace& work = *workspace_;
+  const std::size_t n = p.size();
+  frozen.valid = true;
+  frozen.elastic_energy_j = 0.0;
+  frozen.node.clear();
+  frozen.pushed.clear();
+  frozen.dims = Eigen::Vector3i::Zero();
+  if (active_count_ >= n) return;
+  const Real inv_dx = Real(1.0 / context.dx_m);
+  Eigen::Vector3i low = Eigen::Vector3i::Constant(std::numeric_limits<int>::max());
+  Eigen::Vector3i high = Eigen::Vector3i::Constant(std::numeric_limits<int>::min());
+  for (std::size_t q = active_count_; q < n; ++q) {
+    for (int axis = 0; axis < 3; ++axis) {
+      const int cell = CellOf(p.position[axis][q], inv_dx);
+      low[axis] = std::min(low[axis], cell);
+      high[axis] = std::max(high[axis], cell + 2);
+    }
+  }
+  frozen.origin = low;
+  frozen.dims = high - low + Eigen::Vector3i::Ones();
+  const std::size_t nodes = static_cast<std::size_t>(frozen.dims.x()) * frozen.dims.y() * frozen.dims.z();
+  frozen.node.assign(nodes, Vector4<Real>::Zero());
+  frozen.pushed.assign(nodes, 0);
+  work.node_momentum.resize(n);
+  SubstepContext unit_step = context;
+  unit_step.dt_s = 1.0;  // at rest the momentum over 1 s is the stress force itself (N)
+  for (std::size_t begin = active_count_; begin < n; begin += kChunk) {
+    frozen.elastic_energy_j += ComputeAffineMomentum(unit_step, begin, std::min(n, begin + kChunk), true);
+  }
+  const std::size_t stride_i = static_cast<std::size_t>(frozen.dims.y()) * frozen.dims.z();
+  const std::size_t stride_j = static_cast<std::size_t>(frozen.dims.z());
+  for (std::size_t q = active_count_; q < n; ++q) {
+    Real position[3][1] = {{p.position[0][q]}, {p.position[1][q]}, {p.position[2][q]}};
+    StencilLanes<Real, 1> stencil;
+    StencilBatch<Real, 1>(position, inv_dx, frozen.origin, frozen.dims, &stencil);
+    const NodeMomentum<Real>& values = work.node_momentum[q];
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        for (int k = 0; k < 3; ++k) {
+          const Real w = stencil.w[0][i][0] * stencil.w[1][j][0] * stencil.w[2][k][0];
+          frozen.node[stencil.first_node[0] + i * stride_i + j * stride_j + k] +=
+              w * (values.at_first_node + Real(i) * values.step[0] + Real(j) * values.step[1] +
+                   Real(k) * values.step[2]);
+        }
+      }
+    }
+  }
+}
+
+// The overlap of the frozen load's box and the grid box, as node ranges of each.
+template <typename Real>
+struct LoadOverlap {
+  Eigen::Vector3i load_low, grid_low, size;
+  bool empty() const { return (size.array() <= 0).any(); }
+};
+
+template <typename Real, typename Grid, typename Load>
+LoadOverlap<Real> Overlap(const Grid& grid, const Load& load) {
+  LoadOverlap<Real> overlap;
+  const Eigen::Vector3i low = grid.origin.cwiseMax(load.origin);
+  const Eigen::Vector3i high = (grid.origin + grid.dims).cwiseMin(load.origin + load.dims);
+  overlap.load_low = low - load.origin;
+  overlap.grid_low = low - grid.origin;
+  overlap.size = high - low;
+  return overlap;
+}
+
+template <typename Real>
+void Solver<Real>::AddFrozenLoad(const SubstepContext& context) {
+  const FrozenLoad& frozen = *frozen_;
+  if (active_count_ >= particles_.size() || frozen.node.empty()) return;
+  Grid& grid = *grid_;
+  const LoadOverlap<Real> overlap = Overlap<Real>(grid, frozen);
+  if (overlap.empty()) return;
+  const Real dt = Real(context.dt_s);
+  for (int i = 0; i < overlap.size.x(); ++i) {
+    for (int j = 0; j < overlap.size.y(); ++j) {
+      for (int k = 0; k < overlap.size.z(); ++k) {
+        const Eigen::Vector3i a = overlap.load_low + Eigen::Vector3i(i, j, k);
+        const Eigen::Vector3i b = overlap.grid_low + Eigen::Vector3i(i, j, k);
+        const Vector4<Real>& load =
+            frozen.node[(static_cast<std::size_t>(a.x()) * frozen.dims.y() + a.y()) * frozen.dims.z() + a.z()];
+        if (load[3] <= Real(0)) continue;
+        // Split nodes lie within a few cells of the blade, where nothing is frozen (radius >= 5 dx).
+        const std::size_t node = grid.Index(b.x(), b.y(), b.z());
+        grid.node[node] += Vector4<Real>(dt * load[0], dt * load[1], dt * load[2], load[3]);
+      }
+    }
+  }
+}
+
+template <typename Real>
+void Solver<Real>::MarkPushedFrozenNodes(const SubstepContext& context) {
+  (void)context;
+  FrozenLoad& frozen = *frozen_;
+  if (active_count_ >= particles_.size() || frozen.node.empty()) return;
+  const Grid& grid = *grid_;
+  const LoadOverlap<Real> overlap = Overlap<Real>(grid, frozen);
+  if (overlap.empty()) return;
+  const Real wake_sq = Real(config().activity.wake_speed_m_s * config().activity.wake_speed_m_s);
+  for (int i = 0; i < overlap.size.x(); ++i) {
+    for (int j = 0; j < overlap.size.y(); ++j) {
+      for (int k = 0; k < overlap.size.z(); ++k) {
+        const Eigen::Vector3i a = overlap.load_low + Eigen::Vector3i(i, j, k);
+        const Eigen::Vector3i b = overlap.grid_low + Eigen::Vector3i(i, j, k);
+        const std::size_t load_index =
+            (static_cast<std::size_t>(a.x()) * frozen.dims.y() + a.y()) * frozen.dims.z() + a.z();
+        const Real frozen_mass = frozen.node[load_index][3];
+        if (frozen_mass <= Real(0)) continue;
+        const GridNode<Real>& node = grid.node[grid.Index(b.x(), b.y(), b.z())];  // (velocity, mass)
+        // Only nodes moving food shares: the frozen food's own nodes are never integrated.
+        if (node[3] - frozen_mass <= Real(1e-3) * node[3]) continue;
+        if (node.template head<3>().squaredNorm() > wake_sq) {
+          frozen.pushed[load_index] = 1;
+          frozen.any_pushed = true;
+        }
+      }
+    }
+  }
+}
+
+// After the substep: frozen particles sharing a node that moving food pushed wake (their activity
+// field says so, and the next substep stores them with the moving ones).
+template <typename Real>
+void Solver<Real>::WakePushedFrozenParticles() {
+  FrozenLoad& frozen = *frozen_;
+  if (!frozen.any_pushed) return;
+  Particles<Real>& p = particles_;
+  const Real inv_dx = Real(1.0 / config().dx_m);
+  const Eigen::Vector3i dims = frozen.dims;
+  auto pushed = [&](std::size_t q) {
+    int base[3];
+    for (int axis = 0; axis < 3; ++axis) base[axis] = CellOf(p.position[axis][q], inv_dx) - frozen.origin[axis];
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        for (int k = 0; k < 3; ++k) {
+          const std::size_t node =
+              (static_cast<std::size_t>(base[0] + i) * dims.y() + (base[1] + j)) * dims.z() + (base[2] + k);
+          if (frozen.pushed[node]) return true;  // a frozen particle's stencil lies in the load's box
+        }
+      }
+    }
+    return false;
+  };
+  for (std::size_t q = active_count_; q < p.size(); ++q) {
+    if (pushed(q)) p.activity[q] = 0;
+  }
+  frozen.any_pushed = false;
+  std::fill(frozen.pushed.begin(), frozen.pushed.end(), std::uint8_t(0));
+}
+
+template void Solver<float>::WakePushedFrozenParticles();
+template void Solver<double>::WakePushedFrozenParticles();
+template void Solver<float>::UpdateActivity(const SubstepContext&);
+template void Solver<double>::UpdateActivity(const SubstepContext&);
+template void Solver<float>::BuildFrozenLoad(const SubstepContext&);
+template void Solver<double>::BuildFrozenLoad(const SubstepContext&);
+template void Solver<float>::AddFrozenLoad(const SubstepContext&);
+template void Solver<double>::AddFrozenLoad(const SubstepContext&);
+template void Solver<float>::MarkPushedFrozenNodes(const SubstepContext&);
+template void Solver<double>::MarkPushedFrozenNodes(const SubstepContext&);
+
+}  // namespace culinarycut::mpm
