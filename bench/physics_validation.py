@@ -89,7 +89,8 @@ def run(cc_cut: Path, spec: dict, workdir: Path) -> dict:
             "stage_s": {s: summary["wall_time_ms"][s] / 1e3 for s in ("setup", "p2g", "grid", "g2p")},
             "cut_fractions": summary["cut_fractions"], "food_length_m": written["resolved"]["food"]["length_m"],
             "piece_volumes_m3": sorted(p["volume_m3"] for p in summary["pieces"]),
-            "kinetic_to_elastic_energy": summary.get("kinetic_to_elastic_energy")}
+            "kinetic_to_elastic_energy": summary.get("kinetic_to_elastic_energy"),
+            "active_particle_fraction": summary.get("active_particle_fraction", 1.0)}
 
 
 def main() -> int:

@@ -279,9 +279,9 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     --workspace_->substeps_since_reorder;  // this substep did not happen
     std::rethrow_exception(shared.failed ? shared.error : shared.box_error);
   }
-  WakePushedFrozenParticles();
   shared.stage_ms[3] = std::chrono::duration<double, std::milli>(
                           std::chrono::steady_clock::now() - shared.g2p_start).count();
+  WakePushedFrozenParticles();
   diagnostics.grid_cells = grid_->dims;
   diagnostics.active_particles = static_cast<std::int64_t>(active_count_);
   diagnostics.setup_ms = shared.stage_ms[0];

@@ -53,7 +53,8 @@ MpmResolution CheapestSettingMeeting(const AccuracyTargetConfig& target) {
   }
   const MeasuredAccuracy* cheapest = nullptr;
   for (const MeasuredAccuracy& measured : MeasuredAccuracies()) {
-    if (measured.resolution.mass_scaling != 1.0) continue;
+    // Levers whose price depends on the cut (mass scaling, activity) are left to the user.
+    if (measured.resolution.mass_scaling != 1.0 || measured.resolution.activity_radius_m != 0.0) continue;
     bool meets = true;
     for (const Bound& bound : bounds) meets = meets && (!bound.limit || measured.*bound.error <= *bound.limit);
     if (meets && (!cheapest || measured.relative_cost < cheapest->relative_cost)) cheapest = &measured;
@@ -64,7 +65,9 @@ MpmResolution CheapestSettingMeeting(const AccuracyTargetConfig& target) {
     if (!bound.limit) continue;
     double best = INFINITY;
     for (const MeasuredAccuracy& measured : MeasuredAccuracies()) {
-      if (measured.resolution.mass_scaling == 1.0) best = std::min(best, measured.*bound.error);
+      if (measured.resolution.mass_scaling == 1.0 && measured.resolution.activity_radius_m == 0.0) {
+        best = std::min(best, measured.*bound.error);
+      }
     }
     if (best > *bound.limit) {
       std::ostringstream error;
