@@ -239,7 +239,7 @@ void Solver<Real>::RunSubstepInTeam(const SubstepContext& context, SubstepShared
   // One thread looks for frozen food pushed by its neighbours while the others start G2P (which
   // only reads the grid).
 #pragma omp single nowait
-  MarkPushedFrozenNodes(context);
+  MarkPushedFrozenNodes();
 
   // G2P: velocity and affine field back, F update with J clamp, damage, tip force.
   GridToParticles(context, own_contact);  // no barrier: the region's end is one

@@ -162,7 +162,7 @@ class Solver {
   void UpdateActivity(const SubstepContext& context);
   void BuildFrozenLoad(const SubstepContext& context);
   void AddFrozenLoad(const SubstepContext& context);          // one thread, after P2G
-  void MarkPushedFrozenNodes(const SubstepContext& context);   // one thread, after the grid update
+  void MarkPushedFrozenNodes();                               // one thread, after the grid update
   void WakePushedFrozenParticles();                           // after the team
 
   std::shared_ptr<const SolverModel> model_;  // shared, never copied

@@ -33,6 +33,24 @@ double KnifeDistance(const KnifeSdf& knife, const Eigen::Vector3d& world_m) {
   return std::min(blade, handle);
 }
 
+// The overlap of the frozen load's box and the grid box, as node ranges of each.
+struct LoadOverlap {
+  Eigen::Vector3i load_low, grid_low, size;
+  bool empty() const { return (size.array() <= 0).any(); }
+};
+
+template <typename Grid, typename Load>
+LoadOverlap Overlap(const Grid& grid, const Load& load) {
+  const Eigen::Vector3i low = grid.origin.cwiseMax(load.origin);
+  const Eigen::Vector3i high = (grid.origin + grid.dims).cwiseMin(load.origin + load.dims);
+  return {low - load.origin, low - grid.origin, high - low};
+}
+
+// Index of node (i, j, k) of a box of `dims` nodes.
+inline std::size_t BoxIndex(const Eigen::Vector3i& dims, int i, int j, int k) {
+  return (static_cast<std::size_t>(i) * dims.y() + j) * dims.z() + k;
+}
+
 }  // namespace
 
 template <typename Real>
@@ -121,8 +139,8 @@ void Solver<Real>::UpdateActivity(const SubstepContext& context) {
   if (!frozen.valid) BuildFrozenLoad(context);
 }
 
-// The frozen particles' mass and stress force on the nodes of their own box: P2G's stress pass
-// at zero velocity and affine field, whose momentum is dt times the force.
+// The frozen particles' mass and stress force on the nodes of their own box: P2G's stress pass at
+// zero velocity and affine field over a unit step, whose momentum is then the force.
 template <typename Real>
 void Solver<Real>::BuildFrozenLoad(const SubstepContext& context) {
   Particles<Real>& p = particles_;
@@ -176,30 +194,12 @@ void Solver<Real>::BuildFrozenLoad(const SubstepContext& context) {
   }
 }
 
-// The overlap of the frozen load's box and the grid box, as node ranges of each.
-template <typename Real>
-struct LoadOverlap {
-  Eigen::Vector3i load_low, grid_low, size;
-  bool empty() const { return (size.array() <= 0).any(); }
-};
-
-template <typename Real, typename Grid, typename Load>
-LoadOverlap<Real> Overlap(const Grid& grid, const Load& load) {
-  LoadOverlap<Real> overlap;
-  const Eigen::Vector3i low = grid.origin.cwiseMax(load.origin);
-  const Eigen::Vector3i high = (grid.origin + grid.dims).cwiseMin(load.origin + load.dims);
-  overlap.load_low = low - load.origin;
-  overlap.grid_low = low - grid.origin;
-  overlap.size = high - low;
-  return overlap;
-}
-
 template <typename Real>
 void Solver<Real>::AddFrozenLoad(const SubstepContext& context) {
   const FrozenLoad& frozen = *frozen_;
   if (active_count_ >= particles_.size() || frozen.node.empty()) return;
   Grid& grid = *grid_;
-  const LoadOverlap<Real> overlap = Overlap<Real>(grid, frozen);
+  const LoadOverlap overlap = Overlap(grid, frozen);
   if (overlap.empty()) return;
   const Real dt = Real(context.dt_s);
   for (int i = 0; i < overlap.size.x(); ++i) {
@@ -207,8 +207,7 @@ void Solver<Real>::AddFrozenLoad(const SubstepContext& context) {
       for (int k = 0; k < overlap.size.z(); ++k) {
         const Eigen::Vector3i a = overlap.load_low + Eigen::Vector3i(i, j, k);
         const Eigen::Vector3i b = overlap.grid_low + Eigen::Vector3i(i, j, k);
-        const Vector4<Real>& load =
-            frozen.node[(static_cast<std::size_t>(a.x()) * frozen.dims.y() + a.y()) * frozen.dims.z() + a.z()];
+        const Vector4<Real>& load = frozen.node[BoxIndex(frozen.dims, a.x(), a.y(), a.z())];
         if (load[3] <= Real(0)) continue;
         // Split nodes lie within a few cells of the blade, where nothing is frozen (radius >= 5 dx).
         const std::size_t node = grid.Index(b.x(), b.y(), b.z());
@@ -219,12 +218,11 @@ void Solver<Real>::AddFrozenLoad(const SubstepContext& context) {
 }
 
 template <typename Real>
-void Solver<Real>::MarkPushedFrozenNodes(const SubstepContext& context) {
-  (void)context;
+void Solver<Real>::MarkPushedFrozenNodes() {
   FrozenLoad& frozen = *frozen_;
   if (active_count_ >= particles_.size() || frozen.node.empty()) return;
   const Grid& grid = *grid_;
-  const LoadOverlap<Real> overlap = Overlap<Real>(grid, frozen);
+  const LoadOverlap overlap = Overlap(grid, frozen);
   if (overlap.empty()) return;
   const Real wake_sq = Real(config().activity.wake_speed_m_s * config().activity.wake_speed_m_s);
   for (int i = 0; i < overlap.size.x(); ++i) {
@@ -232,8 +230,7 @@ void Solver<Real>::MarkPushedFrozenNodes(const SubstepContext& context) {
       for (int k = 0; k < overlap.size.z(); ++k) {
         const Eigen::Vector3i a = overlap.load_low + Eigen::Vector3i(i, j, k);
         const Eigen::Vector3i b = overlap.grid_low + Eigen::Vector3i(i, j, k);
-        const std::size_t load_index =
-            (static_cast<std::size_t>(a.x()) * frozen.dims.y() + a.y()) * frozen.dims.z() + a.z();
+        const std::size_t load_index = BoxIndex(frozen.dims, a.x(), a.y(), a.z());
         const Real frozen_mass = frozen.node[load_index][3];
         if (frozen_mass <= Real(0)) continue;
         const GridNode<Real>& node = grid.node[grid.Index(b.x(), b.y(), b.z())];  // (velocity, mass)
@@ -256,16 +253,14 @@ void Solver<Real>::WakePushedFrozenParticles() {
   if (!frozen.any_pushed) return;
   Particles<Real>& p = particles_;
   const Real inv_dx = Real(1.0 / config().dx_m);
-  const Eigen::Vector3i dims = frozen.dims;
   auto pushed = [&](std::size_t q) {
     int base[3];
     for (int axis = 0; axis < 3; ++axis) base[axis] = CellOf(p.position[axis][q], inv_dx) - frozen.origin[axis];
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) {
         for (int k = 0; k < 3; ++k) {
-          const std::size_t node =
-              (static_cast<std::size_t>(base[0] + i) * dims.y() + (base[1] + j)) * dims.z() + (base[2] + k);
-          if (frozen.pushed[node]) return true;  // a frozen particle's stencil lies in the load's box
+          // A frozen particle's stencil lies in the load's box, which was fitted to them.
+          if (frozen.pushed[BoxIndex(frozen.dims, base[0] + i, base[1] + j, base[2] + k)]) return true;
         }
       }
     }
@@ -286,7 +281,7 @@ template void Solver<float>::BuildFrozenLoad(const SubstepContext&);
 template void Solver<double>::BuildFrozenLoad(const SubstepContext&);
 template void Solver<float>::AddFrozenLoad(const SubstepContext&);
 template void Solver<double>::AddFrozenLoad(const SubstepContext&);
-template void Solver<float>::MarkPushedFrozenNodes(const SubstepContext&);
-template void Solver<double>::MarkPushedFrozenNodes(const SubstepContext&);
+template void Solver<float>::MarkPushedFrozenNodes();
+template void Solver<double>::MarkPushedFrozenNodes();
 
 }  // namespace culinarycut::mpm
