@@ -174,11 +174,22 @@ bool KnifeSdf::WithinBladeLength(const Eigen::Vector3d& world_m) const {
   return std::abs((world_to_tcp_ * world_m).x()) <= 0.5 * geometry_.blade_length_m;
 }
 
+Eigen::Vector3d KnifeSdf::BladeBoxCenter() const { return Eigen::Vector3d(0.0, 0.0, -0.5 * geometry_.blade_height_m); }
+
+Eigen::Vector3d KnifeSdf::BladeBoxHalfSize() const {
+  return Eigen::Vector3d(0.5 * geometry_.blade_length_m, 0.5 * thickness_m_, 0.5 * geometry_.blade_height_m);
+}
+
 Eigen::AlignedBox3d KnifeSdf::BladeBounds(double margin_m) const {
-  const Eigen::Vector3d center(0.0, 0.0, -0.5 * geometry_.blade_height_m);
-  const Eigen::Vector3d half(0.5 * geometry_.blade_length_m, 0.5 * thickness_m_,
-                             0.5 * geometry_.blade_height_m);
-  return TransformedBoxBounds(motion_.pose, center, half, margin_m);
+  return TransformedBoxBounds(motion_.pose, BladeBoxCenter(), BladeBoxHalfSize(), margin_m);
+}
+
+double KnifeSdf::BoxDistance(const Eigen::Vector3d& world_m) const {
+  const Eigen::Vector3d p = world_to_tcp_ * world_m;
+  const double blade_m = LocalBoxSdf(p - BladeBoxCenter(), BladeBoxHalfSize()).distance_m;
+  const double handle_m =
+      LocalBoxSdf(p - geometry_.handle_center_in_tcp_m, 0.5 * geometry_.handle_size_m).distance_m;
+  return std::min(blade_m, handle_m);
 }
 
 Eigen::AlignedBox3d KnifeSdf::HandleBounds(double margin_m) const {

@@ -68,11 +68,18 @@ class KnifeSdf {
   // World-space boxes containing each part, padded by `margin_m`.
   Eigen::AlignedBox3d BladeBounds(double margin_m) const;
   Eigen::AlignedBox3d HandleBounds(double margin_m) const;
+  // Signed distance (m) to the nearer of the boxes around the blade and the handle, in the TCP
+  // frame: cheaper than the parts' SDFs and never more than either.
+  double BoxDistance(const Eigen::Vector3d& world_m) const;
 
   const KnifeGeometry& geometry() const { return geometry_; }
   double effective_thickness_m() const { return thickness_m_; }
 
  private:
+  // The box around the blade in the TCP frame: spine at z = 0, edge at -blade_height_m.
+  Eigen::Vector3d BladeBoxCenter() const;
+  Eigen::Vector3d BladeBoxHalfSize() const;
+
   KnifeGeometry geometry_;
   double thickness_m_;
   RigidMotion motion_;

@@ -16,39 +16,25 @@
 namespace culinarycut::mpm {
 namespace {
 
-// Distance (m) from a point in a box's frame to the box (centre, half sizes); 0 inside.
-double BoxDistance(const Eigen::Vector3d& local_m, const Eigen::Vector3d& center_m,
-                   const Eigen::Vector3d& half_m) {
-  return ((local_m - center_m).cwiseAbs() - half_m).cwiseMax(0.0).norm();
-}
-
-// Distance (m) from a world point to the knife (blade or handle box), in the TCP frame.
-double KnifeDistance(const KnifeSdf& knife, const Eigen::Vector3d& world_m) {
-  const KnifeGeometry& g = knife.geometry();
-  const Eigen::Vector3d local = knife.ToTcpFrame(world_m);
-  const double blade = BoxDistance(local, Eigen::Vector3d(0.0, 0.0, -0.5 * g.blade_height_m),
-                                   Eigen::Vector3d(0.5 * g.blade_length_m, 0.5 * knife.effective_thickness_m(),
-                                                   0.5 * g.blade_height_m));
-  const double handle = BoxDistance(local, g.handle_center_in_tcp_m, 0.5 * g.handle_size_m);
-  return std::min(blade, handle);
-}
-
-// The overlap of the frozen load's box and the grid box, as node ranges of each.
-struct LoadOverlap {
-  Eigen::Vector3i load_low, grid_low, size;
-  bool empty() const { return (size.array() <= 0).any(); }
-};
-
-template <typename Grid, typename Load>
-LoadOverlap Overlap(const Grid& grid, const Load& load) {
-  const Eigen::Vector3i low = grid.origin.cwiseMax(load.origin);
-  const Eigen::Vector3i high = (grid.origin + grid.dims).cwiseMin(load.origin + load.dims);
-  return {low - load.origin, low - grid.origin, high - low};
-}
-
 // Index of node (i, j, k) of a box of `dims` nodes.
 inline std::size_t BoxIndex(const Eigen::Vector3i& dims, int i, int j, int k) {
   return (static_cast<std::size_t>(i) * dims.y() + j) * dims.z() + k;
+}
+
+// Calls visit(load node index, grid node index) for every node the load's box and the grid box
+// share.
+template <typename Grid, typename Load, typename Visit>
+void ForEachSharedNode(const Grid& grid, const Load& load, Visit&& visit) {
+  const Eigen::Vector3i low = grid.origin.cwiseMax(load.origin);
+  const Eigen::Vector3i high = (grid.origin + grid.dims).cwiseMin(load.origin + load.dims);
+  for (int x = low.x(); x < high.x(); ++x) {
+    for (int y = low.y(); y < high.y(); ++y) {
+      for (int z = low.z(); z < high.z(); ++z) {
+        visit(BoxIndex(load.dims, x - load.origin.x(), y - load.origin.y(), z - load.origin.z()),
+              grid.Index(x - grid.origin.x(), y - grid.origin.y(), z - grid.origin.z()));
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -98,16 +84,15 @@ void Solver<Real>::UpdateActivity(const SubstepContext& context) {
       const Eigen::Vector3d x(p.position[0][q], p.position[1][q], p.position[2][q]);
       std::uint8_t& state = p.activity[q];
       if (state == kFrozen) {
-        if (KnifeDistance(knife, x) < activity.radius_m) {
+        if (knife.BoxDistance(x) < activity.radius_m) {
           state = 0;
           changed = true;
         }
         continue;
       }
       bool quiet = SquaredSpeed(p.velocity[0][q], p.velocity[1][q], p.velocity[2][q]) < sleep_speed_sq;
-
       for (int k = 0; k < 9 && quiet; ++k) quiet = std::abs(p.C[k][q]) < sleep_c;
-      quiet = quiet && KnifeDistance(knife, x) > sleep_radius_m;
+      quiet = quiet && knife.BoxDistance(x) > sleep_radius_m;
       state = quiet ? static_cast<std::uint8_t>(state + 1) : std::uint8_t(0);
       if (state >= activity.quiet_checks) {
         // Frozen at rest: its velocity and affine field are dropped (below the sleep speed).
@@ -199,22 +184,13 @@ void Solver<Real>::AddFrozenLoad(const SubstepContext& context) {
   const FrozenLoad& frozen = *frozen_;
   if (active_count_ >= particles_.size() || frozen.node.empty()) return;
   Grid& grid = *grid_;
-  const LoadOverlap overlap = Overlap(grid, frozen);
-  if (overlap.empty()) return;
   const Real dt = Real(context.dt_s);
-  for (int i = 0; i < overlap.size.x(); ++i) {
-    for (int j = 0; j < overlap.size.y(); ++j) {
-      for (int k = 0; k < overlap.size.z(); ++k) {
-        const Eigen::Vector3i a = overlap.load_low + Eigen::Vector3i(i, j, k);
-        const Eigen::Vector3i b = overlap.grid_low + Eigen::Vector3i(i, j, k);
-        const Vector4<Real>& load = frozen.node[BoxIndex(frozen.dims, a.x(), a.y(), a.z())];
-        if (load[3] <= Real(0)) continue;
-        // Split nodes lie within a few cells of the blade, where nothing is frozen (radius >= 5 dx).
-        const std::size_t node = grid.Index(b.x(), b.y(), b.z());
-        grid.node[node] += Vector4<Real>(dt * load[0], dt * load[1], dt * load[2], load[3]);
-      }
-    }
-  }
+  ForEachSharedNode(grid, frozen, [&](std::size_t load_index, std::size_t node) {
+    const Vector4<Real>& load = frozen.node[load_index];
+    if (load[3] <= Real(0)) return;
+    // Split nodes lie within a few cells of the blade, where nothing is frozen (radius >= 5 dx).
+    grid.node[node] += Vector4<Real>(dt * load[0], dt * load[1], dt * load[2], load[3]);
+  });
 }
 
 template <typename Real>
@@ -222,27 +198,18 @@ void Solver<Real>::MarkPushedFrozenNodes() {
   FrozenLoad& frozen = *frozen_;
   if (active_count_ >= particles_.size() || frozen.node.empty()) return;
   const Grid& grid = *grid_;
-  const LoadOverlap overlap = Overlap(grid, frozen);
-  if (overlap.empty()) return;
   const Real wake_sq = Real(config().activity.wake_speed_m_s * config().activity.wake_speed_m_s);
-  for (int i = 0; i < overlap.size.x(); ++i) {
-    for (int j = 0; j < overlap.size.y(); ++j) {
-      for (int k = 0; k < overlap.size.z(); ++k) {
-        const Eigen::Vector3i a = overlap.load_low + Eigen::Vector3i(i, j, k);
-        const Eigen::Vector3i b = overlap.grid_low + Eigen::Vector3i(i, j, k);
-        const std::size_t load_index = BoxIndex(frozen.dims, a.x(), a.y(), a.z());
-        const Real frozen_mass = frozen.node[load_index][3];
-        if (frozen_mass <= Real(0)) continue;
-        const GridNode<Real>& node = grid.node[grid.Index(b.x(), b.y(), b.z())];  // (velocity, mass)
-        // Only nodes moving food shares: the frozen food's own nodes are never integrated.
-        if (node[3] - frozen_mass <= Real(1e-3) * node[3]) continue;
-        if (node.template head<3>().squaredNorm() > wake_sq) {
-          frozen.pushed[load_index] = 1;
-          frozen.any_pushed = true;
-        }
-      }
+  ForEachSharedNode(grid, frozen, [&](std::size_t load_index, std::size_t grid_index) {
+    const Real frozen_mass = frozen.node[load_index][3];
+    if (frozen_mass <= Real(0)) return;
+    const GridNode<Real>& node = grid.node[grid_index];  // (velocity, mass)
+    // Only nodes moving food shares: the frozen food's own nodes are never integrated.
+    if (node[3] - frozen_mass <= Real(1e-3) * node[3]) return;
+    if (node.template head<3>().squaredNorm() > wake_sq) {
+      frozen.pushed[load_index] = 1;
+      frozen.any_pushed = true;
     }
-  }
+  });
 }
 
 // After the substep: frozen particles sharing a node that moving food pushed wake (their activity

@@ -16,6 +16,12 @@ bool SameSetting(const MpmResolution& a, const MpmResolution& b) {
          Same(a.mass_scaling, b.mass_scaling) && Same(a.activity_radius_m, b.activity_radius_m);
 }
 
+// Levers whose price depends on the cut (mass scaling: slow cuts only; activity: the food's length
+// and the knife's speed) are left to the user: no target resolves to them.
+bool LeftToUser(const MpmResolution& resolution) {
+  return resolution.mass_scaling != 1.0 || resolution.activity_radius_m != 0.0;
+}
+
 struct Bound {
   const char* field;
   std::optional<double> limit;
@@ -53,8 +59,7 @@ MpmResolution CheapestSettingMeeting(const AccuracyTargetConfig& target) {
   }
   const MeasuredAccuracy* cheapest = nullptr;
   for (const MeasuredAccuracy& measured : MeasuredAccuracies()) {
-    // Levers whose price depends on the cut (mass scaling, activity) are left to the user.
-    if (measured.resolution.mass_scaling != 1.0 || measured.resolution.activity_radius_m != 0.0) continue;
+    if (LeftToUser(measured.resolution)) continue;
     bool meets = true;
     for (const Bound& bound : bounds) meets = meets && (!bound.limit || measured.*bound.error <= *bound.limit);
     if (meets && (!cheapest || measured.relative_cost < cheapest->relative_cost)) cheapest = &measured;
@@ -65,9 +70,7 @@ MpmResolution CheapestSettingMeeting(const AccuracyTargetConfig& target) {
     if (!bound.limit) continue;
     double best = INFINITY;
     for (const MeasuredAccuracy& measured : MeasuredAccuracies()) {
-      if (measured.resolution.mass_scaling == 1.0 && measured.resolution.activity_radius_m == 0.0) {
-        best = std::min(best, measured.*bound.error);
-      }
+      if (!LeftToUser(measured.resolution)) best = std::min(best, measured.*bound.error);
     }
     if (best > *bound.limit) {
       std::ostringstream error;

@@ -30,9 +30,10 @@ const std::vector<MeasuredAccuracy>& MeasuredAccuracies();
 // The study's numbers for exactly this setting, or nothing when it was not measured.
 std::optional<MeasuredAccuracy> FindMeasuredAccuracy(const MpmResolution& resolution);
 
-// The cheapest measured real-mass setting without activity whose every error meets the target's bounds
-// (mass scaling and activity are left to the user: their price depends on the cut). Throws SceneError naming the field when a bound is
-// not positive and finite, when none is set, or when no measured setting reaches it.
+// The cheapest measured real-mass setting without activity whose every error meets the target's
+// bounds (mass scaling and activity are left to the user: their price depends on the cut). Throws
+// SceneError naming the field when a bound is not positive and finite, when none is set, or when no
+// measured setting reaches it.
 MpmResolution CheapestSettingMeeting(const AccuracyTargetConfig& target);
 
 // "dx 4 mm, 8 ppc, CFL 0.4" (and ", mass x16", ", activity 20 mm" when set), as the study labels its settings.
