@@ -218,6 +218,8 @@ def slow_study(runs: dict, grid: list[Setting]) -> dict:
 
 
 ACCURACY_METRICS = ("cut_position_mm", "peak_force", "mean_force", "force_curve_l2")
+QUANTITY_NAMES = {"cut_position_mm": "cut position", "peak_force": "peak force", "mean_force": "mean force",
+                  "force_curve_l2": "force curve"}
 
 
 # Differences below these are under what the study resolves (the reference's own error is 1-10 %, and the
@@ -495,15 +497,13 @@ def _whole_finding(stored: dict) -> str:
     whole = stored["whole"]
     by_key = {r["key"]: r for r in whole["rows"]}
     previous = by_key[PREVIOUS_STANDARD.key]["errors"]
-    names = {"cut_position_mm": "cut position", "peak_force": "peak force", "mean_force": "mean force",
-             "force_curve_l2": "force curve"}
     misses = []
     for setting in (PRESETS["standard"], Setting(4, 8, 0.4, 16.0)):
         r = by_key[setting.key]
         over = _worse_than(r["errors"], previous)
         misses.append(f"{r['label']} ({r['speedup']:.1f}x) " + (
             "is as accurate" if not over else "misses it on the " + " and ".join(
-                f"{names[m]} ({_fmt(r['errors'][m], m != 'cut_position_mm')} against "
+                f"{QUANTITY_NAMES[m]} ({_fmt(r['errors'][m], m != 'cut_position_mm')} against "
                 f"{_fmt(previous[m], m != 'cut_position_mm')})" for m in over)))
     target = whole["target"]
     return (f"- **On the whole cucumber, cut where the robot cuts it**, the cheapest setting as accurate as the "
@@ -514,15 +514,13 @@ def _near_misses(slow: dict, standard_worst: dict) -> list[str]:
     """The settings at the target's speed-up that miss the previous standard's accuracy on one quantity only,
     and whether they stay within the standard preset's worst error over the study's cuts."""
     previous = next(r for r in slow["rows"] if r["key"] == PREVIOUS_STANDARD.key)["errors"]
-    names = {"cut_position_mm": "cut position", "peak_force": "peak force", "mean_force": "mean force",
-             "force_curve_l2": "force curve"}
     misses, within = [], True
     for r in sorted(slow["rows"], key=lambda r: -r["wall_s"]):
         over = _worse_than(r["errors"], previous)
         if r["speedup"] >= TARGET_SPEEDUP and len(over) == 1 and r["errors"][over[0]] is not None:
             m = over[0]
             within &= r["errors"][m] <= standard_worst[m]
-            misses.append(f"{r['label']} ({r['speedup']:.1f}x): {names[m]} error "
+            misses.append(f"{r['label']} ({r['speedup']:.1f}x): {QUANTITY_NAMES[m]} error "
                           f"{_fmt(r['errors'][m], m != 'cut_position_mm')} against {_fmt(previous[m], m != 'cut_position_mm')}")
     if not misses:
         return []
