@@ -113,23 +113,30 @@ class BananaFood : public FoodShape {
   double centre_y_m_;
 };
 
-// Round cone: the wide shoulder (calyx end) at -x, the rounded tip at +x.
+// Round cone: the wide shoulder (calyx end) at -x, the rounded tip at +x. It lies as a cone at rest
+// does, on the line along its side: the axis dips towards the tip by the cone's half angle, so both
+// end spheres touch the board. With the axis level it would rest on the shoulder alone, tip in the
+// air, and roll some 6 mm forward onto its side when the knife wakes the food.
 class StrawberryFood : public FoodShape {
  public:
   StrawberryFood(double length_m, double shoulder_radius_m, double tip_radius_m)
-      : shoulder_m_(shoulder_radius_m),
-        tip_m_(tip_radius_m),
-        axis_length_m_(length_m - shoulder_radius_m - tip_radius_m),
-        shoulder_x_m_(-0.5 * length_m + shoulder_radius_m) {}
+      : shoulder_m_(shoulder_radius_m), tip_m_(tip_radius_m), axis_length_m_(length_m - shoulder_radius_m - tip_radius_m) {
+    const double dip_rad = std::asin((shoulder_m_ - tip_m_) / axis_length_m_);  // the half angle
+    to_axis_frame_ = Eigen::AngleAxisd(-dip_rad, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    // The sphere centres with the shoulder's at the origin, then the shape centred on its box.
+    const Eigen::Vector3d tip_centre_m = to_axis_frame_.transpose() * Eigen::Vector3d(axis_length_m_, 0.0, 0.0);
+    const Eigen::Vector3d r0 = Eigen::Vector3d::Constant(shoulder_m_), r1 = Eigen::Vector3d::Constant(tip_m_);
+    Eigen::AlignedBox3d box(-r0, r0);
+    box.extend(Eigen::AlignedBox3d(tip_centre_m - r1, tip_centre_m + r1));
+    shoulder_centre_m_ = -box.center();
+    half_extent_m_ = 0.5 * box.sizes();
+  }
   double SignedDistance(const Eigen::Vector3d& local_m) const override {
-    return sdf::RoundConeX(local_m - Eigen::Vector3d(shoulder_x_m_, 0.0, 0.0), shoulder_m_, tip_m_,
-                           axis_length_m_);
+    return sdf::RoundConeX(to_axis_frame_ * (local_m - shoulder_centre_m_), shoulder_m_, tip_m_, axis_length_m_);
   }
   Eigen::AlignedBox3d LocalBounds() const override {
-    // The shoulder sphere is the widest section of the hull.
-    const double half_x = 0.5 * (shoulder_m_ + axis_length_m_ + tip_m_);
-    return Eigen::AlignedBox3d(Eigen::Vector3d(-half_x, -shoulder_m_, -shoulder_m_),
-                               Eigen::Vector3d(half_x, shoulder_m_, shoulder_m_));
+    // A round cone is the hull of its two spheres, so their boxes bound it tightly.
+    return Eigen::AlignedBox3d(-half_extent_m_, half_extent_m_);
   }
   std::string food() const override { return "strawberry"; }
 
@@ -137,7 +144,9 @@ class StrawberryFood : public FoodShape {
   double shoulder_m_;
   double tip_m_;
   double axis_length_m_;
-  double shoulder_x_m_;
+  Eigen::Matrix3d to_axis_frame_;       // local frame -> the cone's (axis along +x)
+  Eigen::Vector3d shoulder_centre_m_;   // in the local frame
+  Eigen::Vector3d half_extent_m_;
 };
 
 // Uniform in [0, 1) from the top 53 bits: the same on every platform (std::uniform_real_
@@ -237,6 +246,22 @@ std::unique_ptr<FoodShape> MakeFoodShape(const std::string& food, double scale) 
   std::string names;
   for (const std::string& name : FoodShapeNames()) names += (names.empty() ? "" : ", ") + name;
   throw std::invalid_argument("MakeFoodShape: unknown food '" + food + "'; shapes: " + names);
+}
+
+double EstimatedVolume(const FoodShape& shape) {
+  constexpr int kLattice = 48;
+  const Eigen::AlignedBox3d bounds = shape.LocalBounds();
+  const Eigen::Vector3d step_m = bounds.sizes() / kLattice;
+  int inside = 0;
+  for (int k = 0; k < kLattice; ++k) {
+    for (int j = 0; j < kLattice; ++j) {
+      for (int i = 0; i < kLattice; ++i) {
+        const Eigen::Vector3d local_m = bounds.min() + step_m.cwiseProduct(Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5));
+        if (shape.SignedDistance(local_m) < 0.0) ++inside;
+      }
+    }
+  }
+  return inside * step_m.prod();
 }
 
 template <typename Real>

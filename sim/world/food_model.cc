@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
@@ -116,7 +118,24 @@ void CheckOnTable(const Eigen::AlignedBox3d& food_m, const SceneLayout& layout, 
 FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout) {
   CheckEffects(config);
   FoodModel food_model;
+  std::vector<std::unique_ptr<mpm::FoodShape>> shapes;
+  double smallest_food_m3 = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < config.foods.size(); ++i) {
+    const FoodConfig& food = config.foods[i];
+    try {
+      shapes.push_back(food.specimen ? mpm::MakeSpecimenShape(food.specimen->kind, food.specimen->size_m)
+                                     : mpm::MakeFoodShape(food.food, food.scale));
+    } catch (const std::invalid_argument& error) {
+      throw SceneError("scene.objects[" + std::to_string(i) + "]: " + error.what());
+    }
+    // Specimens are verification geometry: their resolution is the test's to choose.
+    if (!food.specimen) smallest_food_m3 = std::min(smallest_food_m3, mpm::EstimatedVolume(*shapes.back()));
+  }
   food_model.resolution = ResolveMpmResolution(config.quality, config.accuracy_target, config.mpm);
+  // A preset or target's dx is refined for a small food; an explicit scene.mpm.dx is kept as given.
+  if (!config.mpm.dx_m && std::isfinite(smallest_food_m3)) {
+    food_model.resolution.dx_m = DxForSmallestFood(food_model.resolution.dx_m, smallest_food_m3);
+  }
   const MpmResolution& resolution = food_model.resolution;
   mpm::SolverModel solver_model;
   mpm::SolverConfig& solver = solver_model.config;
@@ -148,13 +167,7 @@ FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout)
   for (int i = 0; i < count; ++i) {
     const FoodConfig& food = config.foods[i];
     const std::string field = "scene.objects[" + std::to_string(i) + "]";
-    std::unique_ptr<mpm::FoodShape> shape;
-    try {
-      shape = food.specimen ? mpm::MakeSpecimenShape(food.specimen->kind, food.specimen->size_m)
-                            : mpm::MakeFoodShape(food.food, food.scale);
-    } catch (const std::invalid_argument& error) {
-      throw SceneError(field + ": " + error.what());
-    }
+    const std::unique_ptr<mpm::FoodShape>& shape = shapes[i];
     solver_model.materials.push_back(ResolveFoodMaterial(food, field));
     const Eigen::Isometry3d pose = FoodPose(food, *shape, layout, i, count);
     if (!pose.translation().allFinite()) throw SceneError(field + ".pose.position must be finite");

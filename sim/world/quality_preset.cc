@@ -1,5 +1,6 @@
 #include "sim/world/quality_preset.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -77,6 +78,11 @@ MpmResolution ResolveMpmResolution(const std::string& quality, const std::option
     resolution.activity_radius_m = radius_m;
   }
   return resolution;
+}
+
+double DxForSmallestFood(double resolved_dx_m, double smallest_food_m3) {
+  const double spanning_dx_m = std::cbrt(smallest_food_m3 / kMinCellsPerFood);
+  return std::clamp(spanning_dx_m, 0.5 * resolved_dx_m, resolved_dx_m);
 }
 
 }  // namespace culinarycut

@@ -29,4 +29,14 @@ std::vector<std::string> QualityPresetNames();
 MpmResolution ResolveMpmResolution(const std::string& quality, const std::optional<AccuracyTargetConfig>& target,
                                    const MpmResolutionConfig& overrides);
 
+// Cells of its own volume the smallest food spans at least, so that its halves are pieces of many
+// particles: at draft's 8 mm a 25 mm strawberry is 13 cells (77 particles) and a bias cut leaves it
+// in crumbs; at 30 cells it parts.
+inline constexpr double kMinCellsPerFood = 64.0;
+
+// The grid spacing (m) for a scene whose smallest food has `smallest_food_m3`: the resolved dx, or
+// finer where that food would span fewer than kMinCellsPerFood cells, never below half the resolved
+// dx (a tiny food beside a large one must not multiply the large one's particles without bound).
+double DxForSmallestFood(double resolved_dx_m, double smallest_food_m3);
+
 }  // namespace culinarycut

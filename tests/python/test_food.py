@@ -6,7 +6,7 @@ import pytest
 
 from culinarycut import errors
 from culinarycut.client import food_to_dict
-from culinarycut.policies import ScriptedOracle
+from culinarycut.policies import ScriptedOracle, run_oracle_episode
 
 CUCUMBER = {"food": "cucumber"}  # the real material preset
 CUTTING_EFFECTS = {"mpm": True, "damage": True, "friction": True, "topology": True, "force_sensing": True}
@@ -89,6 +89,21 @@ def test_the_resolved_scene_places_the_food_and_names_the_resolution(client):
     position = np.asarray(scene.objects[0].pose.position)
     assert position[2] > 0.02  # resting on the board, whose top is at z = 0.02 m
     client.close_session(handshake.session_id)
+
+
+def test_a_small_food_refines_the_preset_grid_and_is_cut_in_every_style(client):
+    """A strawberry at draft's 8 mm would be 13 cells and crumble; the draft grid is refined until it spans 64."""
+    explicit = client.create_session({**cutting_scene({"food": "strawberry"}), "mpm": {"dx": 0.008}})
+    assert explicit.resolved_scene.mpm.dx == pytest.approx(0.008)  # an explicit dx is kept as given
+    client.close_session(explicit.session_id)
+    handshake = client.create_session(cutting_scene({"food": "strawberry"}))
+    assert 0.004 < handshake.resolved_scene.mpm.dx < 0.006, handshake.resolved_scene.mpm.dx
+    assert not handshake.resolved_scene.expected_accuracy.measured  # the study did not measure the refined grid
+    client.close_session(handshake.session_id)
+    for style in ("normal", "bias", "guillotine", "saw"):
+        scene = {**cutting_scene({"food": "strawberry"}), "task": {"instruction": f"{style} cut the strawberry at the middle"}}
+        trace = run_oracle_episode(client, scene, seed=1)
+        assert trace["success"] and trace["pieces"] == 2, (style, trace["score"])
 
 
 def test_an_accuracy_target_gets_the_cheapest_measured_setting_and_says_what_to_expect(client):

@@ -221,6 +221,16 @@ TEST_CASE("sampled food volume matches the analytic volume at dx 2 mm, 8 per cel
   }
 }
 
+TEST_CASE("a food's estimated volume matches its analytic volume", "[mpm][food]") {
+  for (const std::string& food : FoodShapeNames()) {
+    for (const double scale : {0.5, 1.0}) {
+      const double relative_error = EstimatedVolume(*MakeFoodShape(food, scale)) / (AnalyticVolume(food) * std::pow(scale, 3)) - 1.0;
+      CAPTURE(food, scale, relative_error);
+      CHECK(std::abs(relative_error) < 0.02);
+    }
+  }
+}
+
 TEST_CASE("sampled particles lie inside the posed food with the right mass", "[mpm][food]") {
   const Eigen::Isometry3d pose = TiltedPose();
   const Eigen::Isometry3d to_local = pose.inverse();
