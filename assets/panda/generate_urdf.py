@@ -38,6 +38,9 @@ HANDLE_SIZE = (0.11, 0.025, 0.03)  # m
 HOLDER_SIZE = (0.05, 0.07, 0.085)  # m, block between flange and handle (where the hand would be)
 BLADE_SIZE = (0.20, 0.002, 0.045)  # m: length, thickness, height
 BLADE_CENTRE = (0.155, 0.0, 0.0075)  # m, in the handle frame
+# The blade's collision box stops this short of the edge (m): a sharp edge sinks into the board a
+# little, so the knife can finish a cut (the planner ends the edge 1 mm below the food's bottom).
+BLADE_EDGE_SETBACK = 0.002
 MASS_HOLDER, MASS_HANDLE, MASS_BLADE = 0.73, 0.06, 0.09  # kg
 
 
@@ -75,15 +78,17 @@ def box_inertia(m, s):
     return (m * (y * y + z * z) / 12, m * (x * x + z * z) / 12, m * (x * x + y * y) / 12)
 
 
-def link_xml(name, mass, com, inertia, shapes):
+def link_xml(name, mass, com, inertia, shapes, collisions=None):
+    """A link whose `shapes` (xyz, rpy, geometry) are drawn and collide, unless `collisions` are given."""
     ixx, iyy, izz = inertia
     out = [f'  <link name="{name}">',
            f'    <inertial><origin xyz="{fmt(com)}" rpy="0 0 0"/><mass value="{mass}"/>'
            f'<inertia ixx="{ixx:.6g}" ixy="0" ixz="0" iyy="{iyy:.6g}" iyz="0" izz="{izz:.6g}"/></inertial>']
-    for xyz, rpy, geometry in shapes:
-        for tag in ("visual", "collision"):
-            out.append(f'    <{tag}><origin xyz="{fmt(xyz)}" rpy="{fmt(rpy)}"/>'
-                       f'<geometry>{geometry}</geometry></{tag}>')
+    tagged = ([(tag, shape) for shape in shapes for tag in ("visual", "collision")] if collisions is None else
+              [("visual", shape) for shape in shapes] + [("collision", shape) for shape in collisions])
+    for tag, (xyz, rpy, geometry) in tagged:
+        out.append(f'    <{tag}><origin xyz="{fmt(xyz)}" rpy="{fmt(rpy)}"/>'
+                   f'<geometry>{geometry}</geometry></{tag}>')
     out.append("  </link>")
     return "\n".join(out)
 
@@ -126,8 +131,12 @@ def main():
          ((0, 0, 0), (0, 0, 0), f'<box size="{fmt(HANDLE_SIZE)}"/>')]))
     parts.append(f'  <joint name="knife_mount" type="fixed"><parent link="panda_link8"/><child link="knife_handle"/>'
                  f'<origin xyz="0 0 {HANDLE_OFFSET_Z}" rpy="0 0 {-math.pi / 4:.17g}"/></joint>')
+    # Blade frame: x towards the tip, z towards the edge.
+    collision_size = (BLADE_SIZE[0], BLADE_SIZE[1], BLADE_SIZE[2] - BLADE_EDGE_SETBACK)
+    collision_centre = (0.0, 0.0, -BLADE_EDGE_SETBACK / 2)
     parts.append(link_xml("knife_blade", MASS_BLADE, (0, 0, 0), box_inertia(MASS_BLADE, BLADE_SIZE),
-                          [((0, 0, 0), (0, 0, 0), f'<box size="{fmt(BLADE_SIZE)}"/>')]))
+                          [((0, 0, 0), (0, 0, 0), f'<box size="{fmt(BLADE_SIZE)}"/>')],
+                          [(collision_centre, (0, 0, 0), f'<box size="{fmt(collision_size)}"/>')]))
     parts.append(f'  <joint name="knife_blade_joint" type="fixed"><parent link="knife_handle"/>'
                  f'<child link="knife_blade"/><origin xyz="{fmt(BLADE_CENTRE)}" rpy="0 0 0"/></joint>')
     parts.append('  <link name="knife_tcp"/>')
