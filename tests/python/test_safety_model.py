@@ -190,7 +190,9 @@ def test_the_dataset_command_runs_real_cuts_and_resumes(tmp_path, cc_cut):
     rows = read_rows(out)
     assert sorted(r["speed_requested_m_s"] for r in rows) == [0.5, 2.0]
     header = json.loads((out / HEADER_FILE).read_text())
-    assert header["quality"] == "draft" and header["dx_m"] == 0.008 and header["engine_builds"][0].startswith("cc-cut")
+    assert header["quality"] == "draft" and header["engine_builds"][0].startswith("cc-cut")
+    # draft's 8 mm, refined for the 12 mm cucumber (docs/world.md, quality presets), as the engine resolved it
+    assert header["dx_m"] == rows[0]["dx_m"] and 0.004 <= header["dx_m"] < 0.008
     for row in rows:
         assert row["speed_m_s"] == pytest.approx(row["speed_requested_m_s"])  # no speed resistance: as prescribed
         assert 0.009 < row["edge_length_m"] <= 0.012  # the particles span the 12 mm diameter to a particle spacing
