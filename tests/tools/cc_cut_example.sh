@@ -10,13 +10,20 @@ trap 'rm -rf "$out"' EXIT
 
 fail() { echo "cc_cut_example: $*" >&2; exit 1; }
 
-"$cc_cut" "$scene" --quiet --out "$out/run" || fail "cc-cut exited with $?"
+"$cc_cut" "$scene" --quiet --particles --out "$out/run" || fail "cc-cut exited with $?"
 [ -s "$out/run/steps.csv" ] || fail "no steps.csv"
 [ -s "$out/run/summary.json" ] || fail "no summary.json"
 head -n 1 "$out/run/steps.csv" | grep -q '^step,t_s,dt_s,knife_z_m,' || fail "bad steps.csv header"
 [ "$(wc -l < "$out/run/steps.csv")" -gt 10 ] || fail "steps.csv has too few rows"
 grep -q '"pieces"' "$out/run/summary.json" || fail "summary.json has no pieces"
 grep -q '"dt_s"' "$out/run/summary.json" || fail "summary.json has no dt_s"
+# particles.csv: a row per particle (as many as summary.json's pieces and crumbs hold), the cut's two
+# pieces among the labels, and every final position near the food (finite, within a metre).
+head -n 1 "$out/run/particles.csv" | grep -q '^rest_x_m,rest_y_m,rest_z_m,x_m,y_m,z_m,piece$' || fail "bad particles.csv header"
+rows=$(($(wc -l < "$out/run/particles.csv") - 1))
+grep -q "\"particles\": $rows," "$out/run/summary.json" || fail "particles.csv has $rows rows, not the summary's particle count"
+awk -F, 'NR > 1 { seen[$7] = 1; for (i = 4; i <= 6; ++i) if (!($i > -1 && $i < 1)) bad = 1 }
+         END { exit !(seen[0] && seen[1] && !bad) }' "$out/run/particles.csv" || fail "particles.csv lacks pieces 0 and 1 or has a stray position"
 # The resolved scene holds the food's pose as the server resolves it: a non-empty quaternion.
 grep -q '"quaternion": \[$' "$out/run/summary.json" || fail "summary.json has no resolved food pose"
 

@@ -210,6 +210,12 @@ CutSummary RunCut(const CutModel& model, const CutStepCallback& on_step) {
   for (mpm::Piece& piece : summary.pieces) piece.mass_kg /= model.food.solver->config.mass_scaling;
   summary.cut_positions_m =
       mpm::CutPositionsAlongAxis(summary.pieces, 0, summary.axis_origin_m, summary.axis_direction);
+  const mpm::Particles<float>& particles = solver.particles();
+  for (int axis = 0; axis < 3; ++axis) {
+    summary.final_particles.rest_position_m[axis] = particles.rest_position[axis];
+    summary.final_particles.position_m[axis] = particles.position[axis];
+  }
+  summary.final_particles.piece = particles.piece;
   for (const auto damage : solver.particles().damage) {
     summary.broken_particles += damage >= model.food.topology.broken_damage;
   }

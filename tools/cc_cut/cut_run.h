@@ -3,6 +3,7 @@
 // balance, timings).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -24,6 +25,14 @@ struct CutStepRecord {
   mpm::SubstepDiagnostics diagnostics;
 };
 using CutStepCallback = std::function<void(const CutStepRecord&)>;
+
+// Where each particle ended up: where it was sampled (material coordinates, m), where it is now (m)
+// and its piece (-1: a crumb or broken). The accuracy study compares pieces' final shapes with it.
+struct FinalParticles {
+  std::array<std::vector<float>, 3> rest_position_m;
+  std::array<std::vector<float>, 3> position_m;
+  std::vector<std::int32_t> piece;
+};
 
 struct CutSummary {
   // What the scene resolved to.
@@ -66,6 +75,7 @@ struct CutSummary {
   // Particles integrated per substep over all particles, averaged over the substeps: below 1 where
   // activity (SceneSpec mpm.activity_radius) froze food far from the knife.
   double active_particle_fraction = 1.0;
+  FinalParticles final_particles;
   // Wall time (ms).
   double compile_ms = 0.0;  // the food model, sampling included
   double setup_ms = 0.0;

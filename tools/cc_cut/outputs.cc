@@ -150,6 +150,18 @@ void WriteStepsHeader(std::ostream& out) {
          "kinetic_energy_j,elastic_energy_j,momentum_residual,fastest_particle_m_s\n";
 }
 
+void WriteFinalParticles(const FinalParticles& particles, std::ostream& out) {
+  out << "rest_x_m,rest_y_m,rest_z_m,x_m,y_m,z_m,piece\n";
+  const auto& rest = particles.rest_position_m;
+  const auto& now = particles.position_m;
+  char row[160];
+  for (std::size_t q = 0; q < particles.piece.size(); ++q) {
+    std::snprintf(row, sizeof(row), "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d\n", rest[0][q], rest[1][q], rest[2][q],
+                  now[0][q], now[1][q], now[2][q], particles.piece[q]);
+    out << row;
+  }
+}
+
 void WriteStepRow(const CutStepRecord& record, std::ostream& out) {
   const mpm::SubstepDiagnostics& d = record.diagnostics;
   out << record.step;

@@ -14,6 +14,9 @@ namespace culinarycut::cc_cut {
 void WriteStepsHeader(std::ostream& out);
 void WriteStepRow(const CutStepRecord& record, std::ostream& out);
 
+// particles.csv: every particle's rest and final position (m) and piece label, one row each.
+void WriteFinalParticles(const FinalParticles& particles, std::ostream& out);
+
 // summary.json: the scene with every default filled in, every value the run resolved to, and the
 // summary.
 std::string SummaryJson(const std::string& scene_path, const CutScene& scene, const CutModel& model,
