@@ -21,6 +21,7 @@ struct ContactMaterial {
   double k2_per_s = 0.0;        // quadratic speed resistance of the knife in this food (1 / (m/s) / s)
   double toughness_j_m2 = 0.0;  // G_c: the most the edge pushes with, per metre of edge (N/m)
   double density_kg_m3 = 1000.0;  // inertial (times the mass scaling): how full an edge node is, mass / rho dx^3
+  double wave_speed_m_s = 0.0;    // dilatational, at real mass: the speed resistance's grid speed (solver_config.h)
 };
 
 // The paper's speed-resistance constant: k2 = k2_0 (E / E_ref)(1 + sigma_y / sigma_y,ref).
@@ -37,12 +38,12 @@ class ContactMaterials {
     for (const Material& material : materials) {
       table_.push_back({material.friction_coefficient, material.board_friction_coefficient,
                         SpeedResistance(material, cutting), material.fracture_toughness_j_m2,
-                        mass_scaling * material.density_kg_m3});
+                        mass_scaling * material.density_kg_m3, material.dilatational_wave_speed_m_s()});
     }
     uniform_ = std::all_of(table_.begin(), table_.end(), [&](const ContactMaterial& m) {
       return m.knife_friction == table_[0].knife_friction && m.board_friction == table_[0].board_friction &&
              m.k2_per_s == table_[0].k2_per_s && m.toughness_j_m2 == table_[0].toughness_j_m2 &&
-             m.density_kg_m3 == table_[0].density_kg_m3;
+             m.density_kg_m3 == table_[0].density_kg_m3 && m.wave_speed_m_s == table_[0].wave_speed_m_s;
     });
   }
 

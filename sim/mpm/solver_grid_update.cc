@@ -11,7 +11,6 @@
 namespace culinarycut::mpm {
 namespace {
 
-constexpr double kContactStrengthScale = 0.35;  // c_norm = 0.35 dx / dt (paper)
 // Without the two-sided blade, unsplit nodes feel the blade within half a cell of its surface: a
 // thin blade between two node layers would otherwise never touch them and the food would leak
 // through. With it, the split layers see the faces and the edge nodes the edge: no offset.
@@ -127,6 +126,7 @@ void Solver<Real>::UpdateGrid(const SubstepContext& context, ContactState* conta
             }
             totals->approach_speed_sum += approach;
             totals->resistance_sum += approach * food_here.k2_per_s;
+            totals->wave_speed_sum += approach * food_here.wave_speed_m_s;
           }
         } else {
           const SdfSample sample = knife_->Blade(x);

@@ -27,6 +27,7 @@ struct GridTotals {
   double mass = 0.0;                                         // kg on the grid
   double approach_speed_sum = 0.0;                           // over blade-contact nodes, m/s
   double resistance_sum = 0.0;                               // the same, each times its food's k2
+  double wave_speed_sum = 0.0;                               // the same, each times its food's wave speed
   std::int64_t speed_caps = 0;
 
   void Add(const GridTotals& other) {
@@ -39,6 +40,7 @@ struct GridTotals {
     mass += other.mass;
     approach_speed_sum += other.approach_speed_sum;
     resistance_sum += other.resistance_sum;
+    wave_speed_sum += other.wave_speed_sum;
     speed_caps += other.speed_caps;
   }
 };
