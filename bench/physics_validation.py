@@ -51,20 +51,44 @@ def scene(food: str, dx_m: float, speed_m_s: float, overrides: dict | None = Non
                       "force_window_s": WINDOW_S}}
 
 
-def run(cc_cut: Path, spec: dict, workdir: Path) -> dict:
-    """One cc-cut run: the windowed blade and edge force against the edge's depth below the food's top."""
+# The world advances the food once per robot physics step (500 Hz) and slows the knife by the food's
+# speed resistance summed over that step (sim/world/food_step.cc).
+ROBOT_PHYSICS_STEP_S = 0.002
+
+
+def knife_speed_factor(t_s: np.ndarray, speed_factor: np.ndarray, in_food: np.ndarray) -> float:
+    """The world's knife speed over the commanded one, averaged over the robot physics steps the edge spends
+    in the food: each step's factor is 1 / (1 + u sum(k2 c-hat dt)) over its substeps, and cc-cut's per-substep
+    factor 1 / (1 + u k2 c-hat dt) gives each term u k2 c-hat dt = 1 / factor - 1."""
+    step = np.floor(t_s / ROBOT_PHYSICS_STEP_S).astype(int)
+    terms = 1.0 / speed_factor - 1.0
+    steps = np.unique(step[in_food])
+    if len(steps) == 0:
+        return 1.0
+    sums = np.bincount(step, weights=terms)[steps]
+    return float(np.mean(1.0 / (1.0 + sums)))
+
+
+def run(cc_cut: Path, spec: dict, workdir: Path, particles_npz: Path | None = None) -> dict:
+    """One cc-cut run: the windowed blade and edge force against the edge's depth below the food's top. With
+    `particles_npz`, every particle's rest and final position and piece are saved there (numpy, compressed)."""
     scene_file = workdir / "scene.json"
     scene_file.write_text(json.dumps(spec))
     out = workdir / "out"
     started = time.perf_counter()
-    subprocess.run([str(cc_cut), str(scene_file), "--out", str(out), "--threads", "1", "--quiet"], check=True)
+    subprocess.run([str(cc_cut), str(scene_file), "--out", str(out), "--threads", "1", "--quiet",
+                    *(["--particles"] if particles_npz else [])], check=True)
     wall_s = time.perf_counter() - started
+    if particles_npz:
+        table = np.loadtxt(out / "particles.csv", delimiter=",", skiprows=1, dtype=np.float64, ndmin=2)
+        np.savez_compressed(particles_npz, rest_m=table[:, 0:3].astype(np.float32),
+                            final_m=table[:, 3:6].astype(np.float32), piece=table[:, 6].astype(np.int32))
     written = json.loads((out / "summary.json").read_text())
     summary = written["summary"]
     with open(out / "steps.csv") as f:
         rows = list(csv.DictReader(f))
     col = {k: np.array([float(r[k]) for r in rows])
-           for k in ("t_s", "dt_s", "knife_z_m", "knife_vz_m_s", "blade_fz_n", "edge_fz_n")}
+           for k in ("t_s", "dt_s", "knife_z_m", "knife_vz_m_s", "blade_fz_n", "edge_fz_n", "speed_factor")}
     blade = np.cumsum(col["blade_fz_n"] * col["dt_s"])
     edge = np.cumsum(col["edge_fz_n"] * col["dt_s"])
     t = col["t_s"]
@@ -90,6 +114,8 @@ def run(cc_cut: Path, spec: dict, workdir: Path) -> dict:
             "cut_fractions": summary["cut_fractions"], "food_length_m": written["resolved"]["food"]["length_m"],
             "piece_volumes_m3": sorted(p["volume_m3"] for p in summary["pieces"]),
             "kinetic_to_elastic_energy": summary.get("kinetic_to_elastic_energy"),
+            "knife_speed_factor": knife_speed_factor(t, col["speed_factor"],
+                                                     descending & (col["knife_z_m"] < top_m)),
             "active_particle_fraction": summary.get("active_particle_fraction", 1.0)}
 
 
