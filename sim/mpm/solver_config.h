@@ -30,11 +30,12 @@ struct CuttingParameters {
   // pushed into it by band / damage_per_band, whatever the knife speed or time step.
   double damage_per_band = 2.0;
   // Quadratic speed resistance u <- u / (1 + k2 c-hat u dt), k2 = k2_0 (E / E_ref)(1 + sy / sy_ref).
-  // The paper normalises c-hat by the grid speed dx / dt, so the slow-down per second would grow with
-  // the substep (twice as much at CFL 0.4 as at 0.2, four times with mass scaling x16). The resistance
-  // normalises it by the grid speed at this CFL and real mass instead, c / resistance_cfl with c the
-  // touched food's wave speed: the paper's value at CFL 0.2 in a one-food scene, and the same at any
-  // CFL or mass scaling (and whatever stiffer food lies elsewhere on the board).
+  // The paper normalises c-hat by the grid speed dx / dt, so the slow-down per second grows with the
+  // substep (about twice as much at CFL 0.4 as at 0.2). The resistance normalises it by the grid speed
+  // at this CFL and real mass instead, c / resistance_cfl with c the touched food's wave speed: the
+  // paper's value at CFL 0.2 in a one-food scene, no dt of its own at any CFL or mass scaling, and
+  // none from a stiffer food elsewhere on the board. The edge nodes' approach speeds it sums still
+  // grow somewhat with the substep (docs/mpm.md).
   double resistance_cfl = 0.2;
   double k2_reference_per_s = 50.0;
   double k2_reference_youngs_pa = 1e6;

@@ -20,10 +20,11 @@
 
 namespace culinarycut::mpm {
 
-// Nodes split by blade side only once the edge is this far below them (in dx); closer to the edge
-// the node is pushed by the edge itself (edge_resistance.h).
 // c-hat = (edge nodes' approach speeds, scaled to the reference grid) / (0.35 x a grid speed) (paper).
 constexpr double kContactStrengthScale = 0.35;
+
+// Nodes split by blade side only once the edge is this far below them (in dx); closer to the edge
+// the node is pushed by the edge itself (edge_resistance.h).
 constexpr double kSplitAboveEdgeCells = 0.5;
 
 // One grid node: (momentum x, y, z, mass) after P2G, (velocity, mass) after the grid update. One
