@@ -205,17 +205,25 @@ def slow_case() -> dict:
     return {SLOW_CASE: scene("cucumber", 0.004, 0.05), WHOLE_CASE: whole}
 
 
-def stored_run(cc_cut: Path, spec: dict, stored: Path) -> dict:
-    """One run, kept as JSON with its particles beside it (.npz); a run stored before the study measured knife
-    speed and final shapes is run again. The particles come back in memory under "final_particles"."""
-    particles = stored.with_suffix(".npz")
+def stored_run_path(runs_dir: Path, case: str, key: str, seed: int = 0) -> Path:
+    """Where a finished run is kept: one file per cut and setting, and per particle seed other than 0."""
+    stem = f"{case.replace(' ', '_').replace(',', '').replace('/', '-')}__{key}"
+    return runs_dir / (f"{stem}.json" if seed == 0 else f"{stem}__seed{seed}.json")
+
+
+def stored_run(cc_cut: Path, spec: dict, stored: Path, particles: bool = True) -> dict:
+    """One run, kept as JSON. With `particles` its particles are kept beside it (.npz) and come back in memory
+    under "final_particles", and a run stored before the study measured knife speed and final shapes is run
+    again; without, any stored run is reused."""
+    npz = stored.with_suffix(".npz")
     result = json.loads(stored.read_text()) if stored.exists() else {}
-    if "knife_speed_factor" not in result or not particles.exists():
+    if not result or (particles and ("knife_speed_factor" not in result or not npz.exists())):
         with tempfile.TemporaryDirectory() as tmp:
-            result = run(cc_cut, spec, Path(tmp), particles_npz=particles)
+            result = run(cc_cut, spec, Path(tmp), particles_npz=npz if particles else None)
         stored.write_text(json.dumps(result))
-    with np.load(particles) as saved:
-        result["final_particles"] = {k: saved[k] for k in saved.files}
+    if particles:
+        with np.load(npz) as saved:
+            result["final_particles"] = {k: saved[k] for k in saved.files}
     return result
 
 
@@ -233,7 +241,7 @@ def run_all(cc_cut: Path, runs_dir: Path, workers: int) -> tuple[dict, dict]:
     results: dict = {}
 
     def one(name: str, setting: Setting) -> tuple[str, Setting, dict]:
-        stored = runs_dir / f"{name.replace(' ', '_').replace(',', '').replace('/', '-')}__{setting.key}.json"
+        stored = stored_run_path(runs_dir, name, setting.key)
         return name, setting, stored_run(cc_cut, with_setting(specs[name], setting), stored)
 
     with ThreadPoolExecutor(max_workers=workers) as pool, tqdm(total=len(jobs), unit="run") as bar:
@@ -306,8 +314,7 @@ def study(results: dict) -> dict:
                               "active_particle_fraction": r.get("active_particle_fraction", 1.0),
                               "j_clamps": r["j_clamps"], "speed_caps": r["speed_caps"]}
         worst = {}
-        for metric in ("cut_position_mm", "piece_volume", "peak_force", "mean_force", "force_curve_l2",
-                       "knife_speed", "final_shape_mm"):
+        for metric in ("piece_volume", *ACCURACY_METRICS, "knife_speed"):
             values = [c["errors"][metric] for c in per_case.values()]
             worst[metric] = None if any(v is None for v in values) else max(values)
         worst["piece_count"] = max(abs(c["errors"]["piece_count"]) for c in per_case.values())

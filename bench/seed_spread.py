@@ -24,8 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from accuracy_cost import (PREVIOUS_STANDARD, QUANTITY_NAMES, REFERENCE, RESOLVED, SLOW_CASE,
-                           WHOLE_CASE, Setting, errors, slow_case, with_setting)
-from physics_validation import run
+                           WHOLE_CASE, Setting, errors, slow_case, stored_run, stored_run_path, with_setting)
 from step_latency import machine_info
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -40,12 +39,6 @@ ACCURACY_METRICS = ("cut_position_mm", "peak_force", "mean_force", "force_curve_
 T_95 = {1: 12.71, 2: 4.30, 3: 3.18, 4: 2.78, 5: 2.57, 6: 2.45, 7: 2.36, 8: 2.31, 9: 2.26}  # Student t, two-sided
 
 
-def stored_name(case: str, key: str, seed: int) -> str:
-    """accuracy_cost.py's file name at seed 0 (so its runs are reused), with the seed after it otherwise."""
-    stem = f"{case.replace(' ', '_').replace(',', '').replace('/', '-')}__{key}"
-    return f"{stem}.json" if seed == 0 else f"{stem}__seed{seed}.json"
-
-
 def run_all(cc_cut: Path, runs_dir: Path, workers: int, seeds: dict[str, int]) -> dict:
     """{case: {setting key: {seed: run}}}; the reference at seed 0 only (it is the study's)."""
     from tqdm import tqdm
@@ -57,15 +50,10 @@ def run_all(cc_cut: Path, runs_dir: Path, workers: int, seeds: dict[str, int]) -
                              / j[1].mass_scaling ** 0.5), reverse=True)  # longest first: the workers end together
 
     def one(case: str, setting: Setting, seed: int) -> tuple[str, Setting, int, dict]:
-        stored = runs_dir / stored_name(case, setting.key, seed)
-        if stored.exists():
-            return case, setting, seed, json.loads(stored.read_text())
         spec = with_setting(specs[case], setting)
         spec["scene"]["seed"] = seed
-        with tempfile.TemporaryDirectory() as tmp:
-            result = run(cc_cut, spec, Path(tmp))
-        stored.write_text(json.dumps(result))
-        return case, setting, seed, result
+        stored = stored_run_path(runs_dir, case, setting.key, seed)  # seed 0: the accuracy study's own run
+        return case, setting, seed, stored_run(cc_cut, spec, stored, particles=False)
 
     results: dict = {}
     with ThreadPoolExecutor(max_workers=workers) as pool, tqdm(total=len(jobs), unit="run") as bar:
