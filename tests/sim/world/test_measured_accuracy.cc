@@ -26,7 +26,8 @@ TEST_CASE("draft and standard are measured settings; standard is as accurate as 
   CHECK(old_standard.relative_cost > 1.5);
   CHECK(standard.peak_force_error <= old_standard.peak_force_error);
   CHECK(standard.force_curve_error <= old_standard.force_curve_error);
-  CHECK(standard.cut_position_error_mm <= old_standard.cut_position_error_mm + 1e-3);
+  // Within the 0.05 mm the study resolves (docs/accuracy.md's rule).
+  CHECK(standard.cut_position_error_mm <= old_standard.cut_position_error_mm + 0.05);
   CHECK_FALSE(FindMeasuredAccuracy(ResolveMpmResolution("fine", std::nullopt, {})).has_value());
 }
 
