@@ -30,9 +30,14 @@ from step_latency import machine_info
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS_JSON = ROOT / "docs" / "benchmarks" / "seed_spread.json"
 # The settings that decide the 5x target on the slow cuts (docs/accuracy.md): the yardstick, the standard
-# preset and mass scaling on it. The whole cucumber costs 5-7 minutes a run, so it gets the three that matter.
-SETTINGS = {SLOW_CASE: [PREVIOUS_STANDARD, Setting(4, 8, 0.4), Setting(4, 8, 0.4, 4.0), Setting(4, 8, 0.4, 16.0)],
-            WHOLE_CASE: [PREVIOUS_STANDARD, Setting(4, 8, 0.4), Setting(4, 8, 0.4, 16.0)]}
+# preset's CFL 0.4 and 0.5, fewer particles per cell, and mass scaling. The whole cucumber costs 1-5 minutes a run (x8 is left out).
+SETTINGS = {SLOW_CASE: [PREVIOUS_STANDARD, Setting(4, 8, 0.4), Setting(4, 8, 0.5), Setting(4, 6, 0.5), Setting(4, 5, 0.5),
+                        Setting(4, 8, 0.4, 4.0), Setting(4, 8, 0.5, 4.0), Setting(4, 8, 0.4, 8.0), Setting(4, 8, 0.4, 16.0)],
+            WHOLE_CASE: [PREVIOUS_STANDARD, Setting(4, 8, 0.4), Setting(4, 8, 0.5), Setting(4, 6, 0.5), Setting(4, 5, 0.5),
+                         Setting(4, 8, 0.4, 4.0), Setting(4, 8, 0.5, 4.0), Setting(4, 8, 0.4, 16.0)]}
+# The study's peak force is over cc-cut's 5 ms window (the paper's dt_acc); a 20 ms window shows whether a shift
+# lives in the force's short swings or in the force the cut takes.
+LONG_WINDOW_S = 0.02
 # The quantities the 5x decision turns on (knife speed and final shape hardly move between these settings, and the
 # seed runs here keep no particles).
 ACCURACY_METRICS = ("cut_position_mm", "peak_force", "mean_force", "force_curve_l2")
@@ -72,6 +77,18 @@ def paired(values: list[float]) -> dict:
     return {"mean": float(v.mean()), "sd": sd, "low": float(v.mean() - half), "high": float(v.mean() + half)}
 
 
+def windowed_peak_n(run: dict, window_s: float, knife_speed_m_s: float) -> float:
+    """The blade force's highest mean over window_s of the knife's travel (the slow cuts descend at a constant
+    speed, so depth stands for time), resampled every 0.25 ms."""
+    step_mm = knife_speed_m_s * 2.5e-4 * 1e3
+    depth_mm = np.asarray(run["depth_mm"], dtype=float)
+    order = np.argsort(depth_mm, kind="stable")
+    uniform = np.arange(depth_mm[order[0]], depth_mm[order[-1]], step_mm)
+    force = np.interp(uniform, depth_mm[order], np.asarray(run["blade_n"], dtype=float)[order])
+    n = max(1, int(round(window_s / 2.5e-4)))
+    return float(np.convolve(force, np.ones(n) / n, mode="valid").max())
+
+
 def analyse(runs: dict) -> dict:
     """Per case and setting: each seed's errors against the case's reference, their spread, the paired
     differences from the previous standard, and the peak force's paired shift (signed, not an error)."""
@@ -81,12 +98,15 @@ def analyse(runs: dict) -> dict:
         reference = by_key[REFERENCE.key][0]
         yard = by_key[PREVIOUS_STANDARD.key]
         yard_errors = {seed: errors(r, reference) for seed, r in yard.items()}
+        speed = slow_case()[case]["knife"]["descent_speed_m_s"]
+        yard_long = {seed: windowed_peak_n(r, LONG_WINDOW_S, speed) for seed, r in yard.items()}
         rows = []
         for setting in SETTINGS[case]:
             mine = by_key[setting.key]
             seeds = sorted(mine)
             errs = {seed: errors(mine[seed], reference) for seed in seeds}
             row = {"key": setting.key, "label": setting.label, "seeds": seeds,
+                   "same_particles": setting.particles_per_cell == PREVIOUS_STANDARD.particles_per_cell,
                    "wall_s": float(np.mean([mine[s]["wall_s"] for s in seeds])),
                    "speedup": float(np.mean([yard[s]["wall_s"] for s in seeds]) / np.mean([mine[s]["wall_s"] for s in seeds])),
                    "pieces": sorted({len(mine[s]["piece_volumes_m3"]) for s in seeds}),
@@ -94,6 +114,8 @@ def analyse(runs: dict) -> dict:
                    "spread": {m: paired([errs[s][m] for s in seeds]) for m in ACCURACY_METRICS},
                    "difference": {m: paired([errs[s][m] - yard_errors[s][m] for s in seeds]) for m in ACCURACY_METRICS},
                    "peak_force_shift": paired([mine[s]["peak_blade_n"] / yard[s]["peak_blade_n"] - 1.0 for s in seeds]),
+                   "long_window_peak_shift": paired([windowed_peak_n(mine[s], LONG_WINDOW_S, speed) / yard_long[s] - 1.0
+                                                     for s in seeds]),
                    "peak_force_n": [mine[s]["peak_blade_n"] for s in seeds]}
             row["worse_on"] = [m for m in ACCURACY_METRICS if row["difference"][m]["low"] > RESOLVED[m]]
             row["within_noise"] = not row["worse_on"] and row["pieces"] == [len(reference["piece_volumes_m3"])]
@@ -163,15 +185,18 @@ def markdown(stored: dict) -> str:
                 cells.append(f"{scale * s['mean']:.2f} ± {scale * s['sd']:.2f}{unit}")
             lines.append(f"| {r['label']} | {r['speedup']:.1f}x | {', '.join(map(str, r['pieces']))} | " + " | ".join(cells) + " |")
         lines += ["", "Against the previous standard seed by seed (this setting's error minus its, mean and 95 % "
-                  "interval of the mean), and the peak force's own shift (signed). *Worse beyond the seeds' spread*: "
+                  "interval of the mean), and the peak force's own shift (signed), over the study's 5 ms window and "
+                  f"over {1e3 * LONG_WINDOW_S:.0f} ms. *Worse beyond the seeds' spread*: "
                   "the whole interval lies above the study's margin.", "",
-                  "| setting | " + " | ".join(QUANTITY_NAMES[q] for q in ACCURACY_METRICS) + " | peak force shift | worse beyond the seeds' spread |",
-                  "|---|" + "---|" * (len(ACCURACY_METRICS) + 2)]
+                  "| setting | " + " | ".join(QUANTITY_NAMES[q] for q in ACCURACY_METRICS) +
+                  f" | peak force shift | over {1e3 * LONG_WINDOW_S:.0f} ms | worse beyond the seeds' spread |",
+                  "|---|" + "---|" * (len(ACCURACY_METRICS) + 3)]
         for r in rows[1:]:
             cells = [_pm(r["difference"][q], 1.0 if q == "cut_position_mm" else 100.0,
                          " mm" if q == "cut_position_mm" else " pt") for q in ACCURACY_METRICS]
             worse = ", ".join(QUANTITY_NAMES[q] for q in r["worse_on"]) or "no"
-            lines.append(f"| {r['label']} | " + " | ".join(cells) + f" | {_pm(r['peak_force_shift'], unit=' %')} | {worse} |")
+            lines.append(f"| {r['label']} | " + " | ".join(cells) + f" | {_pm(r['peak_force_shift'], unit=' %')} | "
+                         f"{_pm(r['long_window_peak_shift'], unit=' %')} | {worse} |")
         lines.append("")
     lines += ["## What it says", ""] + findings(stored)
     return "\n".join(lines) + "\n"
@@ -195,7 +220,10 @@ def findings(stored: dict) -> list[str]:
                        "higher beyond the seeds' spread on " + ", ".join(QUANTITY_NAMES[q] for q in r["worse_on"]))
             lines.append(f"- {case}, **{r['label']}** ({r['speedup']:.1f}x): {verdict}; its peak force is "
                          f"{100 * shift['mean']:+.1f} % (95 % interval {100 * shift['low']:+.1f} to "
-                         f"{100 * shift['high']:+.1f} %) off the previous standard's with the same particles.")
+                         f"{100 * shift['high']:+.1f} %) off the previous standard's " +
+                         ("with the same particles." if r.get("same_particles", True) else
+                          "seed for seed (other particles: the pairing adds nothing)."))
+    lines += _short_swings(stored)
     fastest = max(stored["cases"][SLOW_CASE]["rows"][1:], key=lambda r: r["speedup"])
     shift = fastest["peak_force_shift"]
     if fastest["within_noise"] and (shift["low"] > 0.0 or shift["high"] < 0.0):
@@ -207,6 +235,23 @@ def findings(stored: dict) -> list[str]:
                      "dx 4 mm runs scatter on both sides of the reference. So the study does not count it as meeting "
                      "the previous standard's accuracy.")
     return lines
+
+
+def _short_swings(stored: dict) -> list[str]:
+    """Where mass scaling's peak force shift lives: in the force's short swings, or in the force the cut takes."""
+    scaled = [(case, r) for case, data in stored["cases"].items() for r in data["rows"] if "mass x" in r["label"]]
+    if not scaled:
+        return []
+    shifted = [(case, r) for case, r in scaled if r["peak_force_shift"]["low"] > 0.0]
+    parts = [f"{r['label']} on the {'whole cucumber' if case == WHOLE_CASE else '0.6-scale cut'} "
+             f"{100 * r['peak_force_shift']['mean']:+.1f} % over 5 ms, {100 * r['long_window_peak_shift']['mean']:+.1f} "
+             f"% over {1e3 * LONG_WINDOW_S:.0f} ms" for case, r in shifted]
+    return [f"- **Mass scaling's peak force shift lives mostly in the force's short swings.** Where the 5 ms peak "
+            "moves beyond the seeds' spread, the peak of the force averaged over "
+            f"{1e3 * LONG_WINDOW_S:.0f} ms moves less: " + "; ".join(parts) + ". So most of the shift is in swings "
+            "shorter than 20 ms, not in the force the cut takes (why heavier food swings harder is not traced here). "
+            "The 5 ms window is the paper's force accumulation window, and a robot's force limit sees those swings, "
+            "so the study keeps judging the 5 ms peak."]
 
 
 def main() -> int:
