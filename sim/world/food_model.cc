@@ -151,6 +151,7 @@ FoodModel CompileFoodModel(const SceneConfig& config, const SceneLayout& layout)
   solver.effects.two_sided_blade = true;
   // A little grid damping lets the food come to rest on the board, so MPM can sleep again.
   solver.grid_damping_per_s = 2.0;
+  food_model.activation_margin_m = kActivationMarginCells * resolution.dx_m;
   food_model.topology_update = config.effects.topology;
   food_model.topology.link_distance_m = 0.75 * resolution.dx_m;
   food_model.topology.min_piece_particles = 20;

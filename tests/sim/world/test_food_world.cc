@@ -108,6 +108,14 @@ TEST_CASE("the food sleeps until the knife comes near", "[food_world]") {
   CHECK_FALSE(state.food->awake);
 }
 
+TEST_CASE("the food wakes when the knife comes within 2.5 grid cells at any dx", "[food_world]") {
+  // A particle's quadratic stencil reaches 1.5 cells: nearer than that the knife could touch its grid.
+  SceneConfig config = CucumberScene(false);
+  CHECK(CompileModel(config, testing::Panda())->food->activation_margin_m == Approx(0.020));
+  config.mpm.dx_m = 0.006;
+  CHECK(CompileModel(config, testing::Panda())->food->activation_margin_m == Approx(0.015));
+}
+
 TEST_CASE("an oracle cut through a cucumber leaves two pieces and loads the knife only in contact", "[food_world]") {
   const auto model = CompileModel(CucumberScene(true), testing::Panda());
   const CutTrace trace = RunOracleCut(*model, "cut the cucumber in the middle");

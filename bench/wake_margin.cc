@@ -1,0 +1,90 @@
+// One robot episode of the example cut (the scripted oracle cuts a real cucumber 0.3 from the left;
+// robot, MPM, damage, friction, topology and force sensing; no cameras) with MPM woken either 2 cm
+// from the food, as it was, or kActivationMarginCells grid cells from it, as it is now. Prints one
+// JSON object; bench/wake_margin_report.py runs the settings side by side and writes the page.
+//
+//   bench_wake_margin QUALITY MARGIN [CFL PPC]     MARGIN: "cells" (now) or "2cm" (before)
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "sim/policy/scripted_oracle.h"
+#include "sim/world/model.h"
+#include "sim/world/step.h"
+
+using namespace culinarycut;
+
+namespace {
+
+constexpr char kInstruction[] = "cut the cucumber at 0.3 ratio from the left";  // examples/cut_cucumber.py
+constexpr double kMarginBefore_m = 0.02;  // the wake margin before it followed the grid
+
+int Usage() {
+  std::cerr << "usage: bench_wake_margin QUALITY cells|2cm [CFL PPC]\n";
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 3 && argc != 5) return Usage();
+  const std::string margin = argv[2];
+  if (margin != "cells" && margin != "2cm") return Usage();
+  SceneConfig config;
+  config.quality = argv[1];
+  config.effects = EffectsConfig{true, false, true, true, true, true, false};
+  config.foods.push_back(FoodConfig{});
+  config.foods.back().food = "cucumber";  // its real material preset
+  config.task.instruction = kInstruction;
+  if (argc == 5) {
+    config.mpm.cfl = std::atof(argv[3]);
+    config.mpm.particles_per_cell = std::atoi(argv[4]);
+  }
+  const RobotDescription robot = LoadRobotDescription(DefaultRobotUrdfPath(), kTcpFrame);
+  auto model = std::make_shared<Model>(*CompileModel(config, robot));
+  if (margin == "2cm") model->food->activation_margin_m = kMarginBefore_m;
+
+  State state;
+  ResetState(*model, &state, 0, {});
+  OracleConfig oracle_config;
+  oracle_config.instruction = kInstruction;
+  oracle_config.objects = model->food->objects;
+  const ScriptedOracle oracle(*model, oracle_config, state.physics->JointPositions(), state.sim_time_s);
+
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  int steps = 0, mpm_substeps = 0, substeps_before_contact = 0, first_contact_step = 0;
+  double peak_force_n = 0.0;
+  std::string forces = "[", step_walls = "[", step_substeps = "[";
+  StepResult last;
+  while (!oracle.Finished(state.sim_time_s) && !last.terminated) {
+    const Eigen::VectorXd action = oracle.Act(*model, state.physics->JointPositions(), state.sim_time_s);
+    const auto step_start = Clock::now();
+    last = Step(*model, &state, Action{oracle.control_mode(), action});
+    step_walls += (steps > 0 ? "," : "") + std::to_string(std::chrono::duration<double>(Clock::now() - step_start).count());
+    ++steps;
+    mpm_substeps += last.mpm_substeps;
+    step_substeps += (steps > 1 ? "," : "") + std::to_string(last.mpm_substeps);
+    if (last.first_contact) first_contact_step = steps;
+    if (first_contact_step == 0) substeps_before_contact += last.mpm_substeps;
+    const double force_n = state.food->control_step_wrench.force_n.norm();
+    peak_force_n = std::max(peak_force_n, force_n);
+    forces += (steps > 1 ? "," : "") + std::to_string(force_n);
+  }
+  const double wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+  const task::TaskScore& score = *last.task_score;
+  const double error = score.required.empty() ? -1.0 : score.required.front().position_error_fraction;
+  std::printf(
+      "{\"quality\": \"%s\", \"margin\": \"%s\", \"margin_m\": %.4f, \"cfl\": %g, \"particles_per_cell\": %d, "
+      "\"particles\": %zu, \"steps\": %d, \"sim_s\": %.3f, \"wall_s\": %.3f, \"mpm_substeps\": %d, "
+      "\"substeps_before_contact\": %d, \"first_contact_step\": %d, \"success\": %s, \"pieces\": %zu, "
+      "\"position_error_fraction\": %.6f, \"peak_force_n\": %.4f, \"force_n\": %s], \"step_wall_s\": %s], \"step_mpm_substeps\": %s]}\n",
+      config.quality.c_str(), margin.c_str(), model->food->activation_margin_m, model->food->resolution.cfl,
+      model->food->resolution.particles_per_cell, model->food->initial_particles.size(), steps, state.sim_time_s,
+      wall_s, mpm_substeps, substeps_before_contact, first_contact_step, score.success ? "true" : "false",
+      state.food->pieces.size(), error, peak_force_n, forces.c_str(), step_walls.c_str(), step_substeps.c_str());
+  return 0;
+}
