@@ -30,7 +30,8 @@ from step_latency import machine_info
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS_JSON = ROOT / "docs" / "benchmarks" / "seed_spread.json"
 # The settings that decide the 5x target on the slow cuts (docs/accuracy.md): the yardstick, the standard
-# preset's CFL 0.4 and 0.5, fewer particles per cell, and mass scaling. The whole cucumber costs 1-5 minutes a run (x8 is left out).
+# preset's CFL 0.4 and 0.5, fewer particles per cell, and mass scaling. The whole cucumber costs 1-5 minutes a
+# run (x8 is left out).
 SETTINGS = {SLOW_CASE: [PREVIOUS_STANDARD, Setting(4, 8, 0.4), Setting(4, 8, 0.5), Setting(4, 6, 0.5), Setting(4, 5, 0.5),
                         Setting(4, 8, 0.4, 4.0), Setting(4, 8, 0.5, 4.0), Setting(4, 8, 0.4, 8.0), Setting(4, 8, 0.4, 16.0)],
             WHOLE_CASE: [PREVIOUS_STANDARD, Setting(4, 8, 0.4), Setting(4, 8, 0.5), Setting(4, 6, 0.5), Setting(4, 5, 0.5),
@@ -239,19 +240,29 @@ def findings(stored: dict) -> list[str]:
 
 def _short_swings(stored: dict) -> list[str]:
     """Where mass scaling's peak force shift lives: in the force's short swings, or in the force the cut takes."""
-    scaled = [(case, r) for case, data in stored["cases"].items() for r in data["rows"] if "mass x" in r["label"]]
-    if not scaled:
+    shifted = [(case, r) for case, data in stored["cases"].items() for r in data["rows"]
+               if "mass x" in r["label"] and r["peak_force_shift"]["low"] > 0.0]
+    if not shifted:
         return []
-    shifted = [(case, r) for case, r in scaled if r["peak_force_shift"]["low"] > 0.0]
-    parts = [f"{r['label']} on the {'whole cucumber' if case == WHOLE_CASE else '0.6-scale cut'} "
-             f"{100 * r['peak_force_shift']['mean']:+.1f} % over 5 ms, {100 * r['long_window_peak_shift']['mean']:+.1f} "
-             f"% over {1e3 * LONG_WINDOW_S:.0f} ms" for case, r in shifted]
-    return [f"- **Mass scaling's peak force shift lives mostly in the force's short swings.** Where the 5 ms peak "
-            "moves beyond the seeds' spread, the peak of the force averaged over "
-            f"{1e3 * LONG_WINDOW_S:.0f} ms moves less: " + "; ".join(parts) + ". So most of the shift is in swings "
-            "shorter than 20 ms, not in the force the cut takes (why heavier food swings harder is not traced here). "
-            "The 5 ms window is the paper's force accumulation window, and a robot's force limit sees those swings, "
-            "so the study keeps judging the 5 ms peak."]
+
+    def part(case: str, r: dict) -> str:
+        return (f"{r['label']} on the {'whole cucumber' if case == WHOLE_CASE else '0.6-scale cut'} "
+                f"{100 * r['peak_force_shift']['mean']:+.1f} % over 5 ms, "
+                f"{100 * r['long_window_peak_shift']['mean']:+.1f} % over {1e3 * LONG_WINDOW_S:.0f} ms")
+
+    # Short: at most half of the 5 ms shift is left once the force is averaged over the longer window.
+    short = [(c, r) for c, r in shifted if r["long_window_peak_shift"]["mean"] <= 0.5 * r["peak_force_shift"]["mean"]]
+    rest = [(c, r) for c, r in shifted if (c, r) not in short]
+    line = (f"- **Where mass scaling's peak force shift lives.** Where the 5 ms peak moves beyond the seeds' spread, "
+            f"the peak of the force averaged over {1e3 * LONG_WINDOW_S:.0f} ms moves less. ")
+    if short:
+        line += ("Mostly in swings shorter than that, not in the force the cut takes: "
+                 + "; ".join(part(c, r) for c, r in short) + ". ")
+    if rest:
+        line += "In the force the cut takes as well: " + "; ".join(part(c, r) for c, r in rest) + ". "
+    line += ("Why heavier food swings harder is not traced here. The 5 ms window is the paper's force accumulation "
+             "window, and a robot's force limit sees those swings, so the study keeps judging the 5 ms peak.")
+    return [line]
 
 
 def main() -> int:
