@@ -755,7 +755,10 @@ def markdown(stored: dict) -> str:
               "and whether the settings above differ by more than that, is measured in "
               "[benchmarks/seed_spread.md](benchmarks/seed_spread.md).",
               "", "The same settings on a whole robot episode (the example cut through the server, three cameras) "
-              "are timed side by side in [benchmarks/cut_episode.md](benchmarks/cut_episode.md).",
+              "are timed side by side in [benchmarks/cut_episode.md](benchmarks/cut_episode.md). A robot episode "
+              "also integrates the food from when the knife comes near it; waking it only when the knife can reach "
+              "its grid, and today's standard episode against the episode the 5x target was set against (the "
+              "previous standard, woken 2 cm out), side by side: [benchmarks/wake_margin.md](benchmarks/wake_margin.md).",
               "", "`SceneSpec.mpm.mass_scaling` sets mass scaling for a session (docs/world.md): the food's inertia "
               "times s, its weight real (gravity acts on the scaled mass as g / s), the MPM substep sqrt(s) longer. "
               "It is valid while the kinetic / elastic column stays small; cc-cut reports it as "
