@@ -53,7 +53,7 @@ REFERENCES = (
 # The standard preset's resolution when the presets' toughness was calibrated (2026-11-25); the accuracy
 # study has raised the standard's CFL since (docs/accuracy.md), and --check-preset cuts the specimens with it.
 CALIBRATION_MPM = {"dx": 0.004, "particles_per_cell": 8, "cfl": 0.2}
-STANDARD_CFL = PRESETS["standard"].cfl  # what --check-preset runs at, for the page
+STANDARD_SETTING = PRESETS["standard"].label  # what --check-preset runs at, for the page
 
 
 def scene(reference: dict, speed_m_s: float, toughness_j_m2: float, quality: str = "standard",
@@ -89,7 +89,7 @@ def check_preset(cc_cut: Path) -> int:
         for reference in stored["references"]:
             result = run(cc_cut, scene(reference, stored["speed_m_s"], reference["fitted_toughness_j_m2"]), Path(tmp))
             q = plateau(result)
-            reference["current_standard"] = {**q, "wall_s": result["wall_s"], "cfl": STANDARD_CFL,
+            reference["current_standard"] = {**q, "wall_s": result["wall_s"], "setting": STANDARD_SETTING,
                                               "in_band": reference["band_n"][0] <= q["blade_n"] <= reference["band_n"][1],
                                               "date": date.today().isoformat()}
             print(f"{reference['name']} at the standard preset: plateau {q['blade_n']:.1f} N", flush=True)
