@@ -730,8 +730,8 @@ def markdown(stored: dict) -> str:
             for m in GUARD_METRICS) + " |")
     standard_worst = next(r for r in rows if r["key"] == PRESETS["standard"].key)["worst"]
     lines += ["", "## Activity: freezing the food far from the knife", "",
-              "At dx 4 mm, 8 ppc, CFL 0.4 (the standard preset when activity was studied), each radius against the same setting without "
-              "activity, in this run. At 0.5 m/s nothing freezes: the work is the same, and the speed-up is the "
+              "At dx 4 mm, 8 ppc, CFL 0.4 (the standard preset when activity was studied), each radius against "
+              "the same setting without activity, in this run. At 0.5 m/s nothing freezes: the work is the same, and the speed-up is the "
               "machine's noise.", "",
               "| cut | radius | integrated | speed-up | peak force error (without) | mean force error (without) | "
               "force curve L2 (without) |", "|---|---|---|---|---|---|---|"]

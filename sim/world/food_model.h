@@ -45,7 +45,8 @@ struct FoodModel {
 // The knife can touch the food's grid once it is within 1.5 cells of a particle (the quadratic
 // B-spline stencil's reach); one cell more of slack. The check runs at both ends of every 2 ms
 // physics step, so the knife's travel within a step needs no margin of its own. Waking sooner only
-// integrates food at rest: 2 cm at dx 4 mm was a second of MPM before a slow cut's first contact.
+// integrates food at rest: 2 cm at dx 4 mm was a quarter of a second of MPM before a slow cut's
+// first contact (docs/benchmarks/wake_margin.md).
 inline constexpr double kActivationMarginCells = 2.5;
 
 inline constexpr std::size_t kParticlesPerMpmThread = 5'000;  // fewer per thread: one thread is faster

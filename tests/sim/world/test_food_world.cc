@@ -109,7 +109,7 @@ TEST_CASE("the food sleeps until the knife comes near", "[food_world]") {
 }
 
 TEST_CASE("the food wakes when the knife comes within 2.5 grid cells at any dx", "[food_world]") {
-  // A particle's quadratic stencil reaches 1.5 cells: nearer than that the knife could touch its grid.
+  // A particle's quadratic stencil reaches 1.5 cells: within that the knife can touch the food's grid.
   SceneConfig config = CucumberScene(false);
   CHECK(CompileModel(config, testing::Panda())->food->activation_margin_m == Approx(0.020));
   config.mpm.dx_m = 0.006;
