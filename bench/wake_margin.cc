@@ -4,11 +4,12 @@
 // JSON object; bench/wake_margin_report.py runs the settings side by side and writes the page.
 //
 //   bench_wake_margin QUALITY MARGIN [CFL PPC]     MARGIN: "cells" (now) or "2cm" (before)
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
 #include <iostream>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "sim/policy/scripted_oracle.h"
@@ -27,21 +28,23 @@ int Usage() {
   return 2;
 }
 
-}  // namespace
+// A JSON array of numbers, one appended per control step.
+struct JsonList {
+  std::string text;
+  void Add(double value) { text += (text.empty() ? "" : ",") + std::to_string(value); }
+  std::string Str() const { return "[" + text + "]"; }
+};
 
-int main(int argc, char** argv) {
-  if (argc != 3 && argc != 5) return Usage();
-  const std::string margin = argv[2];
-  if (margin != "cells" && margin != "2cm") return Usage();
+int Run(const std::string& quality, const std::string& margin, int argc, char** argv) {
   SceneConfig config;
-  config.quality = argv[1];
+  config.quality = quality;
   config.effects = EffectsConfig{true, false, true, true, true, true, false};
   config.foods.push_back(FoodConfig{});
   config.foods.back().food = "cucumber";  // its real material preset
   config.task.instruction = kInstruction;
   if (argc == 5) {
-    config.mpm.cfl = std::atof(argv[3]);
-    config.mpm.particles_per_cell = std::atoi(argv[4]);
+    config.mpm.cfl = std::stod(argv[3]);
+    config.mpm.particles_per_cell = std::stoi(argv[4]);
   }
   const RobotDescription robot = LoadRobotDescription(DefaultRobotUrdfPath(), kTcpFrame);
   auto model = std::make_shared<Model>(*CompileModel(config, robot));
@@ -58,33 +61,49 @@ int main(int argc, char** argv) {
   const auto start = Clock::now();
   int steps = 0, mpm_substeps = 0, substeps_before_contact = 0, first_contact_step = 0;
   double peak_force_n = 0.0;
-  std::string forces = "[", step_walls = "[", step_substeps = "[";
+  JsonList force_n, step_wall_s, step_mpm_substeps;
   StepResult last;
   while (!oracle.Finished(state.sim_time_s) && !last.terminated) {
     const Eigen::VectorXd action = oracle.Act(*model, state.physics->JointPositions(), state.sim_time_s);
     const auto step_start = Clock::now();
     last = Step(*model, &state, Action{oracle.control_mode(), action});
-    step_walls += (steps > 0 ? "," : "") + std::to_string(std::chrono::duration<double>(Clock::now() - step_start).count());
+    step_wall_s.Add(std::chrono::duration<double>(Clock::now() - step_start).count());
     ++steps;
     mpm_substeps += last.mpm_substeps;
-    step_substeps += (steps > 1 ? "," : "") + std::to_string(last.mpm_substeps);
+    step_mpm_substeps.Add(last.mpm_substeps);
     if (last.first_contact) first_contact_step = steps;
     if (first_contact_step == 0) substeps_before_contact += last.mpm_substeps;
-    const double force_n = state.food->control_step_wrench.force_n.norm();
-    peak_force_n = std::max(peak_force_n, force_n);
-    forces += (steps > 1 ? "," : "") + std::to_string(force_n);
+    const double force = state.food->control_step_wrench.force_n.norm();
+    peak_force_n = std::max(peak_force_n, force);
+    force_n.Add(force);
   }
   const double wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+  if (!last.task_score || last.task_score->required.empty()) throw std::runtime_error("the episode was not scored");
   const task::TaskScore& score = *last.task_score;
-  const double error = score.required.empty() ? -1.0 : score.required.front().position_error_fraction;
   std::printf(
       "{\"quality\": \"%s\", \"margin\": \"%s\", \"margin_m\": %.4f, \"cfl\": %g, \"particles_per_cell\": %d, "
       "\"particles\": %zu, \"steps\": %d, \"sim_s\": %.3f, \"wall_s\": %.3f, \"mpm_substeps\": %d, "
       "\"substeps_before_contact\": %d, \"first_contact_step\": %d, \"success\": %s, \"pieces\": %zu, "
-      "\"position_error_fraction\": %.6f, \"peak_force_n\": %.4f, \"force_n\": %s], \"step_wall_s\": %s], \"step_mpm_substeps\": %s]}\n",
-      config.quality.c_str(), margin.c_str(), model->food->activation_margin_m, model->food->resolution.cfl,
+      "\"position_error_fraction\": %.6f, \"peak_force_n\": %.4f, \"force_n\": %s, \"step_wall_s\": %s, "
+      "\"step_mpm_substeps\": %s}\n",
+      quality.c_str(), margin.c_str(), model->food->activation_margin_m, model->food->resolution.cfl,
       model->food->resolution.particles_per_cell, model->food->initial_particles.size(), steps, state.sim_time_s,
       wall_s, mpm_substeps, substeps_before_contact, first_contact_step, score.success ? "true" : "false",
-      state.food->pieces.size(), error, peak_force_n, forces.c_str(), step_walls.c_str(), step_substeps.c_str());
+      state.food->pieces.size(), score.required.front().position_error_fraction, peak_force_n,
+      force_n.Str().c_str(), step_wall_s.Str().c_str(), step_mpm_substeps.Str().c_str());
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 3 && argc != 5) return Usage();
+  const std::string margin = argv[2];
+  if (margin != "cells" && margin != "2cm") return Usage();
+  try {
+    return Run(argv[1], margin, argc, argv);
+  } catch (const std::exception& error) {  // a bad preset, CFL or ppc is refused with the field named
+    std::cerr << "bench_wake_margin: " << error.what() << "\n";
+    return 1;
+  }
 }
