@@ -714,7 +714,7 @@ def markdown(stored: dict) -> str:
               f"(previous standard: {previous['wall_s']:.0f} s). Mass scaling and activity are left out of the "
               "presets and of accuracy targets: mass scaling is valid for slow cuts only, and activity's price "
               "depends on the food's length and the knife's speed (at 0.5 m/s it freezes nothing, so its rows above "
-              "repeat the standard's errors and differ in wall time only by the machine's noise). The server carries this page's table (sim/world/measured_accuracy_table.cc, "
+              "repeat those of CFL 0.4 without it and differ in wall time only by the machine's noise). The server carries this page's table (sim/world/measured_accuracy_table.cc, "
               "written by this script): `GetServerInfo` lists each preset with its expected errors and cost, every "
               "resolved scene says what its setting measured (`expected_accuracy`), and a scene may ask for an "
               "accuracy target instead of a preset (`quality: {force_error: 0.1}` from Python, "
