@@ -259,7 +259,7 @@ def run_all(cc_cut: Path, runs_dir: Path, workers: int) -> tuple[dict, dict]:
 
 def slow_study(runs: dict, grid: list[Setting]) -> dict:
     """A slow cut: each setting against the slow reference, and the cheapest one at the previous standard's
-    accuracy with its speed-up over it, measured side by side in one run."""
+    accuracy with its speed-up over it."""
     reference, previous = runs[REFERENCE.key], runs[PREVIOUS_STANDARD.key]
     rows = []
     for setting in grid:
@@ -516,8 +516,7 @@ def _findings(stored: dict) -> list[str]:
         "runs lose accuracy on the force curve. At the robot's 0.05 m/s it is "
         f"{slow_real['kinetic_to_elastic_energy']:.3f}.",
         f"- **At the robot's speed** the cheapest setting at least as accurate as the previous standard against the "
-        f"slow cut's own reference is **{target['label']}**, {target['speedup']:.1f}x less wall time, side by side "
-        "in this run: " + ("the 5x target is met." if target["met"] else
+        f"slow cut's own reference is **{target['label']}**, {target['speedup']:.1f}x less wall time: " + ("the 5x target is met." if target["met"] else
                             f"short of the {TARGET_SPEEDUP:g}x target (below)."),
         "- **The cucumber's force does not converge monotonically** (its faces' friction at dx 4 mm, docs/mpm.md): "
         "its peak force moves by about 10 % between dx 3 and 2.5 mm, which bounds how well any setting can be "
@@ -666,7 +665,11 @@ def markdown(stored: dict) -> str:
              f"descending at {SPEED_M_S:g} m/s (the saw at 0.25 m/s with 5 mm, 10 Hz strokes). The reference is "
              f"the finest affordable run, dx {REFERENCE.dx_mm:g} mm with 8 particles per cell and CFL 0.2 (the "
              "`fine` preset's dx 2 mm would cost about 14x the standard's time per cut and is not run); each "
-             "setting's error is its worst over the cuts, its cost the wall time of all of them. "
+             "setting's error is its worst over the cuts, its cost the wall time of all of them. Finished runs are "
+             "kept between invocations (--runs) and reused, so a setting added later was timed in a later "
+             "invocation: its ratio to the others carries the machine's drift between the two (about 10 % either "
+             "way here; particles times substeps, in the table, does not drift). The robot episode's 5x "
+             "measurement is side by side in one run (benchmarks/wake_margin.md). "
              + stored.get("note", ""), "",
              f"Machine: {machine['cpu_model']}, {machine['cores']} cores, {machine['platform']}; {machine['date']}.",
              "", "Cuts: " + ", ".join(stored["cases"]) + ".", "",
@@ -710,7 +713,7 @@ def markdown(stored: dict) -> str:
               f"({PREVIOUS_STANDARD.label}) on every quantity but knife speed (cut position, peak and "
               f"mean force, force curve, final shape; differences under {RESOLVED['cut_position_mm']:g} mm or "
               f"{100 * RESOLVED['peak_force']:g} % count as equal, being under what the study resolves) with the same pieces: **{best['label']}**, "
-              f"{best['speedup']:.1f}x less wall time over the same cuts, measured side by side in this run "
+              f"{best['speedup']:.1f}x less wall time over the same cuts "
               f"(previous standard: {previous['wall_s']:.0f} s). Mass scaling and activity are left out of the "
               "presets and of accuracy targets: mass scaling is valid for slow cuts only, and activity's price "
               "depends on the food's length and the knife's speed (at 0.5 m/s it freezes nothing, so its rows above "
@@ -744,12 +747,12 @@ def markdown(stored: dict) -> str:
               "## At the robot's cutting speed: the 5x target", "",
               "The planner's knife moves through food at 0.02-0.05 m/s. The cucumber cut at 0.05 m/s, each setting "
               f"against this slow cut's own reference (dx {REFERENCE.dx_mm:g} mm, 8 ppc, CFL 0.2, real mass), all "
-              "run side by side in this study; speed-up over the previous standard preset:", "",
+              "run in this study; speed-up over the previous standard preset:", "",
               *_slow_section(stored["slow"], standard_worst), "",
               "### The whole cucumber, cut where the robot cuts it", "",
               "The robot episode's cut (examples/cut_cucumber.py): the whole cucumber (scale 1, 20 cm), 0.3 of its "
               "length from one end, at 0.05 m/s, against its own reference at the same resolution; the levers "
-              "that reached the target's neighbourhood above, run side by side:", "",
+              "that reached the target's neighbourhood above:", "",
               *_slow_section(stored["whole"], standard_worst),
               "", "Every run here samples the food's particles from seed 0. How far the errors move with the seed alone, "
               "and whether the settings above differ by more than that, is measured in "
