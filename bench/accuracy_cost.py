@@ -198,7 +198,7 @@ WHOLE_GRID = sorted({REFERENCE, PREVIOUS_STANDARD, Setting(4, 8, 0.4), Setting(4
                      Setting(4, 8, 0.4, 4.0, ACTIVITY_RADII_MM[0])},
                     key=lambda s: s.order)
 SLOW_GRIDS = {SLOW_CASE: SLOW_GRID, WHOLE_CASE: WHOLE_GRID}
-# The target: a cut at or below the previous standard's errors in this much less wall time.
+# The target set for the study: a cut at or below the previous standard's errors in this much less wall time.
 TARGET_SPEEDUP = 5.0
 
 
