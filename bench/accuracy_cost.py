@@ -516,8 +516,8 @@ def _findings(stored: dict) -> list[str]:
         "runs lose accuracy on the force curve. At the robot's 0.05 m/s it is "
         f"{slow_real['kinetic_to_elastic_energy']:.3f}.",
         f"- **At the robot's speed** the cheapest setting at least as accurate as the previous standard against the "
-        f"slow cut's own reference is **{target['label']}**, {target['speedup']:.1f}x less wall time: " + ("the 5x target is met." if target["met"] else
-                            f"short of the {TARGET_SPEEDUP:g}x target (below)."),
+        f"slow cut's own reference is **{target['label']}**, {target['speedup']:.1f}x less wall time: "
+        + ("the 5x target is met." if target["met"] else f"short of the {TARGET_SPEEDUP:g}x target (below)."),
         "- **The cucumber's force does not converge monotonically** (its faces' friction at dx 4 mm, docs/mpm.md): "
         "its peak force moves by about 10 % between dx 3 and 2.5 mm, which bounds how well any setting can be "
         "judged on that cut.",
@@ -717,7 +717,8 @@ def markdown(stored: dict) -> str:
               f"(previous standard: {previous['wall_s']:.0f} s). Mass scaling and activity are left out of the "
               "presets and of accuracy targets: mass scaling is valid for slow cuts only, and activity's price "
               "depends on the food's length and the knife's speed (at 0.5 m/s it freezes nothing, so its rows above "
-              "repeat those of CFL 0.4 without it and differ in wall time only by the machine's noise). The server carries this page's table (sim/world/measured_accuracy_table.cc, "
+              "repeat those of CFL 0.4 without it and differ in wall time only by the machine's noise). The server "
+              "carries this page's table (sim/world/measured_accuracy_table.cc, "
               "written by this script): `GetServerInfo` lists each preset with its expected errors and cost, every "
               "resolved scene says what its setting measured (`expected_accuracy`), and a scene may ask for an "
               "accuracy target instead of a preset (`quality: {force_error: 0.1}` from Python, "
@@ -734,8 +735,8 @@ def markdown(stored: dict) -> str:
     standard_worst = next(r for r in rows if r["key"] == PRESETS["standard"].key)["worst"]
     lines += ["", "## Activity: freezing the food far from the knife", "",
               "At dx 4 mm, 8 ppc, CFL 0.4 (the standard preset when activity was studied), each radius against "
-              "the same setting without activity, in this run. At 0.5 m/s nothing freezes: the work is the same, and the speed-up is the "
-              "machine's noise.", "",
+              "the same setting without activity, in this run. At 0.5 m/s nothing freezes: the work is the same, "
+              "and the speed-up is the machine's noise.", "",
               "| cut | radius | integrated | speed-up | peak force error (without) | mean force error (without) | "
               "force curve L2 (without) |", "|---|---|---|---|---|---|---|"]
     for f in _activity_rows(stored):
@@ -761,7 +762,8 @@ def markdown(stored: dict) -> str:
               "are timed side by side in [benchmarks/cut_episode.md](benchmarks/cut_episode.md). A robot episode "
               "also integrates the food from when the knife comes near it; waking it only when the knife can reach "
               "its grid, and today's standard episode against the episode the 5x target was set against (the "
-              "previous standard, woken 2 cm out), side by side: [benchmarks/wake_margin.md](benchmarks/wake_margin.md).",
+              "previous standard, woken 2 cm out), side by side: "
+              "[benchmarks/wake_margin.md](benchmarks/wake_margin.md).",
               "", "`SceneSpec.mpm.mass_scaling` sets mass scaling for a session (docs/world.md): the food's inertia "
               "times s, its weight real (gravity acts on the scaled mass as g / s), the MPM substep sqrt(s) longer. "
               "It is valid while the kinetic / elastic column stays small; cc-cut reports it as "

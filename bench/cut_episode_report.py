@@ -5,8 +5,8 @@ episode and per simulated second, split by stage: robot (control + physics), MPM
 topology), rendering, and RPC + client (everything the server's stages do not account for:
 transport, serialisation, image decoding, the oracle's calls). The settings are the presets and two
 from the accuracy study (docs/accuracy.md): the standard preset as it was before the study chose it
-(8 ppc, CFL 0.2) and the standard preset with mass scaling x16, so the speed-ups are measured side by side in
-one run. Writes docs/benchmarks/cut_episode.md, .json and docs/images/cut_episode_stages.png.
+(8 ppc, CFL 0.2) and the standard preset with mass scaling x16, so the speed-ups are measured side by
+side in one run. Writes docs/benchmarks/cut_episode.md, .json and docs/images/cut_episode_stages.png.
 
     .venv/bin/python bench/cut_episode_report.py [--settings draft standard ...] [--max-wall-s 900]
 
@@ -46,7 +46,8 @@ def stage_split(trace: dict) -> dict:
 SETTINGS = {
     "draft": ("draft", {}),
     "standard": ("standard", {}),
-    "previous standard": ("standard", {"cfl": 0.2, "particles_per_cell": 8}),  # the standard preset until the accuracy study
+    # The standard preset until the accuracy study.
+    "previous standard": ("standard", {"cfl": 0.2, "particles_per_cell": 8}),
     "standard, mass x16": ("standard", {"mass_scaling": 16.0}),
     "fine": ("fine", {}),
 }

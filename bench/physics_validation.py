@@ -237,7 +237,7 @@ def _calibration_markdown(calibration: dict | None) -> str:
     if checked:
         lines += ["", f"The calibration cut at dx 4 mm, 8 particles per cell and CFL 0.2, the standard preset then. "
                   f"At the standard preset of {checked[0]['current_standard']['date']} "
-                  f"({checked[0]['current_standard'].get('setting', 'CFL 0.4')}, chosen from the "
+                  f"({checked[0]['current_standard']['setting']}, chosen from the "
                   "accuracy study's front, docs/accuracy.md) the calibrated G gives a plateau of " + ", ".join(
                       f"{r['current_standard']['blade_n']:.1f} N for the {r['name']} "
                       f"({'in' if r['current_standard']['in_band'] else 'out of'} its band)" for r in checked)

@@ -61,7 +61,8 @@ def markdown(stored: dict) -> str:
              f"Machine: {m['cpu_model']}, {m['cores']} cores, {m['platform']}; {stored['date']}. The machine's speed "
              "drifts by up to 2x within a run (steps of the same substeps took 2.4-5 s), so the MPM work "
              "(substeps times particles, the same on every run) is the measure to compare; wall times are shown.", "",
-             "| episode | margin (mm) | particles | MPM substeps | before first contact | MPM work (M particle-substeps) "
+             "| episode | margin (mm) | particles | MPM substeps | before first contact "
+             "| MPM work (M particle-substeps) "
              "| wall s | peak knife force (N) | cut position error (of the length) | pieces | success |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
@@ -82,7 +83,8 @@ def markdown(stored: dict) -> str:
     work = (old["particles"] * old["mpm_substeps"]) / (now["particles"] * now["mpm_substeps"])
     lines.append(f"- **Today's standard episode against the one the accuracy target was set against** (the previous "
                  f"standard, woken at 2 cm), side by side in this run: {work:.1f}x less MPM work and "
-                 f"{old['wall_s'] / now['wall_s']:.1f}x less wall time ({old['wall_s']:.0f} s -> {now['wall_s']:.0f} s); "
+                 f"{old['wall_s'] / now['wall_s']:.1f}x less wall time "
+                 f"({old['wall_s']:.0f} s -> {now['wall_s']:.0f} s); "
                  "the standard preset is as accurate as the previous one on every quantity the accuracy study "
                  "rules on (docs/accuracy.md). The target was 5x.")
     return "\n".join(lines) + "\n"
