@@ -241,7 +241,12 @@ def _calibration_markdown(calibration: dict | None) -> str:
                   "accuracy study's front, docs/accuracy.md) the calibrated G gives a plateau of " + ", ".join(
                       f"{r['current_standard']['blade_n']:.1f} N for the {r['name']} "
                       f"({'in' if r['current_standard']['in_band'] else 'out of'} its band)" for r in checked)
-                  + " (`bench/lsdyna_calibration.py --check-preset`)."]
+                  + " (`bench/lsdyna_calibration.py --check-preset`). Edge / faces there against the calibration "
+                  "cut's: " + ", ".join(
+                      f"{r['current_standard']['edge_n']:.1f} / {r['current_standard']['faces_n']:.1f} N against "
+                      f"{r['after']['edge_n']:.1f} / {r['after']['faces_n']:.1f} N ({r['name']})" for r in checked)
+                  + ": the edge's G L holds, and what moves is the faces' friction, which does not converge "
+                  "(docs/mpm.md, known limits)."]
     lines += ["", "![force against depth beside the reference bands](images/lsdyna_reference.png)", "",
               "**Procedure.** The edge's part of the force is G L (docs/mpm.md), linear in the edge toughness G, and "
               "the faces' friction grows with it (the edge presses the food harder against the faces). From one cut "

@@ -113,7 +113,7 @@ def test_an_accuracy_target_gets_the_cheapest_measured_setting_and_says_what_to_
     draft, standard = presets["draft"].expected, presets["standard"].expected
     assert draft.measured and standard.measured and not presets["fine"].expected.measured
     assert standard.relative_cost == pytest.approx(1.0) and draft.relative_cost < 0.2
-    assert standard.force_error < draft.force_error and presets["standard"].mpm.cfl == pytest.approx(0.5)
+    assert standard.force_error < draft.force_error and presets["standard"].mpm.cfl == pytest.approx(0.8)
 
     handshake = client.create_session({**cutting_scene(CUCUMBER), "quality": {"force_error": 0.1}})
     resolved = handshake.resolved_scene

@@ -56,7 +56,7 @@ TEST_CASE("a cc-cut scene with one food has the documented defaults", "[cc_cut][
   // The standard preset's resolution and the food's own material preset.
   CHECK(model.food.resolution.dx_m == 0.004);
   CHECK(model.food.resolution.particles_per_cell == 6);
-  CHECK(model.food.resolution.cfl == 0.5);
+  CHECK(model.food.resolution.cfl == 0.8);
   const mpm::Material& material = model.food.solver->materials.at(0);
   CHECK(material.youngs_modulus_pa == mpm::MaterialPreset("cucumber").youngs_modulus_pa);
   // SceneSpec's default pose: long axis along world y, resting on the board at its centre.

@@ -17,7 +17,7 @@ TEST_CASE("draft and standard are measured settings; standard is as accurate as 
   const MeasuredAccuracy draft = Measured(ResolveMpmResolution("draft", std::nullopt, {}));
   const MeasuredAccuracy standard = Measured(ResolveMpmResolution("standard", std::nullopt, {}));
   CHECK(standard.relative_cost == Approx(1.0));
-  CHECK(draft.relative_cost < 0.2 * standard.relative_cost);
+  CHECK(draft.relative_cost < 0.25 * standard.relative_cost);  // at least 4x cheaper
   CHECK(draft.peak_force_error > standard.peak_force_error);
   // The standard preset until the study: dx 4 mm, 8 ppc, CFL 0.2.
   MpmResolution previous;
