@@ -26,6 +26,10 @@ RUNS = [("previous standard, woken at 2 cm", ["standard", "2cm", "0.2", "8"]),
         ("previous standard, woken at 2.5 cells", ["standard", "cells", "0.2", "8"]),
         ("standard, woken at 2 cm", ["standard", "2cm"])]
 YARDSTICK, NOW = RUNS[0][0], RUNS[1][0]
+# The two episodes the target compares run again after the others, and each keeps its fastest wall time: the
+# machine's drift only ever slows a run down (the same episode has taken 276 and 309 s an hour apart).
+REPEATED = RUNS[:2]
+TARGET_SPEEDUP = 5.0  # the accuracy study's target for today's standard episode against the yardstick's
 
 
 def main() -> int:
@@ -35,12 +39,15 @@ def main() -> int:
     if not args.bench.exists():
         print(f"error: no {args.bench}; build it (scripts/build.sh)", file=sys.stderr)
         return 2
-    rows = []
-    for label, bench_args in RUNS:
+    rows: dict[str, dict] = {}
+    for label, bench_args in RUNS + REPEATED:
         print(f"{label} ...", flush=True)
         out = subprocess.run([str(args.bench), *bench_args], check=True, capture_output=True, text=True).stdout
-        rows.append({"label": label, **json.loads(out)})
-        print(f"  {rows[-1]['wall_s']:.0f} s, {rows[-1]['mpm_substeps']} MPM substeps", flush=True)
+        run = json.loads(out)
+        walls = rows[label]["wall_s_runs"] + [run["wall_s"]] if label in rows else [run["wall_s"]]
+        rows[label] = {"label": label, **run, "wall_s": min(walls), "wall_s_runs": walls}
+        print(f"  {run['wall_s']:.0f} s, {run['mpm_substeps']} MPM substeps", flush=True)
+    rows = list(rows.values())
     stored = {"machine": machine_info(), "date": date.today().isoformat(), "rows": rows}
     (OUT / "wake_margin.json").write_text(json.dumps(stored, indent=1))
     (OUT / "wake_margin.md").write_text(markdown(stored))
@@ -60,15 +67,18 @@ def markdown(stored: dict) -> str:
              "more is slack; the check runs at both ends of every 2 ms physics step).", "",
              f"Machine: {m['cpu_model']}, {m['cores']} cores, {m['platform']}; {stored['date']}. The machine's speed "
              "drifts by up to 2x within a run (steps of the same substeps took 2.4-5 s), so the MPM work "
-             "(substeps times particles, the same on every run) is the measure to compare; wall times are shown.", "",
+             "(substeps times particles, the same on every run) is the measure to compare; wall times are shown. "
+             f"The first {len(REPEATED)} episodes ran again after the others, interleaved; their wall time is the "
+             "fastest of their runs (all of them in the JSON's wall_s_runs).", "",
              "| episode | margin (mm) | particles | MPM substeps | before first contact "
              "| MPM work (M particle-substeps) "
-             "| wall s | peak knife force (N) | cut position error (of the length) | pieces | success |",
+             "| wall s (each run) | peak knife force (N) | cut position error (of the length) | pieces | success |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         lines.append(f"| {r['label']} | {1e3 * r['margin_m']:.0f} | {r['particles']:,} | {r['mpm_substeps']:,} | "
                      f"{r['substeps_before_contact']:,} | {r['particles'] * r['mpm_substeps'] / 1e6:,.0f} | "
-                     f"{r['wall_s']:.0f} | {r['peak_force_n']:.2f} | {100 * r['position_error_fraction']:.2f} % | "
+                     f"{r['wall_s']:.0f} ({', '.join(f'{w:.0f}' for w in r.get('wall_s_runs', [r['wall_s']]))}) | "
+                     f"{r['peak_force_n']:.2f} | {100 * r['position_error_fraction']:.2f} % | "
                      f"{r['pieces']} | {'yes' if r['success'] else 'no'} |")
     lines += ["", "## What it says", ""]
     for prefix in ("standard", "previous standard"):
@@ -84,9 +94,12 @@ def markdown(stored: dict) -> str:
     lines.append(f"- **Today's standard episode against the one the accuracy target was set against** (the previous "
                  f"standard, woken at 2 cm), side by side in this run: {work:.1f}x less MPM work and "
                  f"{old['wall_s'] / now['wall_s']:.1f}x less wall time "
-                 f"({old['wall_s']:.0f} s -> {now['wall_s']:.0f} s); "
+                 f"({old['wall_s']:.0f} s -> {now['wall_s']:.0f} s; run by run "
+                 + ", ".join(f"{a / b:.1f}x" for a, b in zip(old.get("wall_s_runs", []), now.get("wall_s_runs", [])))
+                 + "); "
                  "the standard preset is as accurate as the previous one on every quantity the accuracy study "
-                 "rules on (docs/accuracy.md). The target was 5x.")
+                 "rules on, which leaves out the knife's speed (docs/accuracy.md). The target was 5x less wall time: "
+                 + ("met." if old["wall_s"] / now["wall_s"] >= TARGET_SPEEDUP else "not met."))
     return "\n".join(lines) + "\n"
 
 
