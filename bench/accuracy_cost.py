@@ -279,7 +279,7 @@ def slow_study(runs: dict, grid: list[Setting]) -> dict:
                      "active_particle_fraction": r.get("active_particle_fraction", 1.0),
                      "speedup": previous["wall_s"] / r["wall_s"]})
     previous_row = next(r for r in rows if r["key"] == PREVIOUS_STANDARD.key)
-    candidates = [r for r in rows if r["key"] != REFERENCE.key and r["setting"]["cfl"] <= MAX_CHOSEN_CFL
+    candidates = [r for r in rows if r["key"] != REFERENCE.key and _choosable(r)
                   and _as_accurate(r["errors"], previous_row["errors"])]
     best = min(candidates, key=lambda r: r["wall_s"])
     return {"rows": rows, "target": {"key": best["key"], "label": best["label"], "speedup": best["speedup"],
@@ -304,6 +304,11 @@ def _worse_than(found: dict, yardstick: dict) -> list[str]:
     either could not measure)."""
     return [m for m in ACCURACY_METRICS
             if found[m] is None or yardstick[m] is None or found[m] > yardstick[m] + RESOLVED[m]]
+
+
+def _choosable(row: dict) -> bool:
+    """Whether a row's setting may be the study's pick, a preset or an accuracy target's answer (MAX_CHOSEN_CFL)."""
+    return row["setting"]["cfl"] <= MAX_CHOSEN_CFL
 
 
 def _as_accurate(found: dict, yardstick: dict) -> bool:
@@ -358,7 +363,7 @@ def _cheaper_than_standard(rows: list[dict]) -> dict:
     wall time differs from the same setting's without it only by the machine's noise), so no preset has either."""
     previous = next(r for r in rows if r["key"] == PREVIOUS_STANDARD.key)
     candidates = [r for r in rows if r["key"] != REFERENCE.key and r["setting"]["mass_scaling"] == 1.0
-                  and not r["setting"].get("activity_mm") and r["setting"]["cfl"] <= MAX_CHOSEN_CFL
+                  and not r["setting"].get("activity_mm") and _choosable(r)
                   and _as_accurate(r["worst"], previous["worst"])]
     best = min(candidates, key=lambda r: r["wall_s"])
     return {"key": best["key"], "label": best["label"], "speedup": previous["wall_s"] / best["wall_s"]}
@@ -418,7 +423,7 @@ def cxx_table(stored: dict) -> str:
     entries = []
     for r in sorted(stored["rows"], key=lambda r: r["wall_s"]):
         w, s = r["worst"], r["setting"]
-        if r["key"] == stored["reference"] or w["piece_count"] != 0 or s["cfl"] > MAX_CHOSEN_CFL:
+        if r["key"] == stored["reference"] or w["piece_count"] != 0 or not _choosable(r):
             continue
         entries.append(f"      {{{{{s['dx_mm'] * 1e-3:g}, {s['particles_per_cell']}, {s['cfl']:g}, {s['mass_scaling']:g}, "
                        f"{s.get('activity_mm', 0.0) * 1e-3:g}}}, "

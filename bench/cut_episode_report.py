@@ -125,13 +125,15 @@ def main() -> int:
                 rows.append(measure(client, preset, args.max_wall_s))
     finally:
         server.stop()
-    (out / "cut_episode.json").write_text(json.dumps(rows, indent=1))
-    write_page(rows)
+    stored = {"machine": machine_info(), "date": time.strftime("%Y-%m-%d"), "rows": rows}
+    (out / "cut_episode.json").write_text(json.dumps(stored, indent=1))
+    write_page(stored)
     return 0
 
 
-def write_page(rows: list[dict]) -> None:
-    """docs/benchmarks/cut_episode.md and its chart from the measured rows (the machine and date are this run's)."""
+def write_page(stored: dict) -> None:
+    """docs/benchmarks/cut_episode.md and its chart from a run's rows, machine and date."""
+    rows = stored["rows"]
     lines = [
         "# End-to-end cut: wall time per preset",
         "",
@@ -139,8 +141,8 @@ def write_page(rows: list[dict]) -> None:
         f"oracle: \"{CUT_CUCUMBER_INSTRUCTION}\", the real cucumber preset, three 224 x 224 RGB cameras",
         "rendered every step, 20 Hz control, 500 Hz robot physics) through a local server over TCP.",
         "",
-        "Machine: {cpu_model}, {cores} cores, {platform}; llvmpipe rendering; ".format(**machine_info())
-        + time.strftime("%Y-%m-%d") + ".",
+        "Machine: {cpu_model}, {cores} cores, {platform}; llvmpipe rendering; ".format(**stored["machine"])
+        + stored["date"] + ".",
         "",
         "Stages: robot = control + physics; MPM = substeps + piece detection; render = the three cameras;",
         "RPC + client = the rest of the client's wall time (transport, serialisation, decoding, the oracle's calls).",
