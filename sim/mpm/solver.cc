@@ -41,6 +41,8 @@ void ValidateSolverConfig(const SolverConfig& config) {
   require(cutting.band0_m > 0.0 && cutting.band_reference_dx_m > 0.0, "band0_m and "
           "band_reference_dx_m must be > 0");
   require(cutting.resistance_cfl > 0.0 && std::isfinite(cutting.resistance_cfl), "resistance_cfl must be > 0");
+  require(cutting.resistance_approach_gain > 0.0 && std::isfinite(cutting.resistance_approach_gain),
+          "resistance_approach_gain must be > 0");
   require(cutting.v_hat >= 0.0 && cutting.c_hat_min >= 0.0 && cutting.damage_per_band >= 0.0,
           "v_hat, c_hat_min and damage_per_band must be >= 0");
   require(cutting.k2_reference_per_s >= 0.0 && cutting.k2_reference_youngs_pa > 0.0 &&
@@ -147,9 +149,10 @@ template double FastestParticleSpeed(const Particles<double>&);
 
 
 template <typename Real>
-double Solver<Real>::ResistanceContactStrength(double approach_speed_sum_m_s, double wave_speed_m_s) const {
+double Solver<Real>::ResistanceContactStrength(double edge_sweep_m2_s, double wave_speed_m_s) const {
   const CuttingParameters& cutting = config().cutting;
-  const double approach_m_s = approach_speed_sum_m_s * (config().dx_m / cutting.band_reference_dx_m);
+  // What the paper's sum of approach speeds comes to at resistance_cfl, per reference cell of edge.
+  const double approach_m_s = cutting.resistance_approach_gain * edge_sweep_m2_s / cutting.band_reference_dx_m;
   const double grid_speed_m_s = wave_speed_m_s / cutting.resistance_cfl;
   return std::min(1.0, approach_m_s / (kContactStrengthScale * grid_speed_m_s));
 }
@@ -345,15 +348,16 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
             : 0.0;
   }
   // Quadratic speed resistance (paper): u <- u / (1 + k2 c-hat u dt) with u = 1 the current speed;
-  // k2 and the wave speed are the touched foods' (SpeedResistance), weighted by how fast the blade pushes
-  // into each, and c-hat is taken at a grid speed free of the substep (CuttingParameters::resistance_cfl).
-  if (context.knife_on && contact.c_hat > 0.0 && grid_totals.approach_speed_sum > 0.0) {
+  // k2 and the wave speed are the touched foods' (SpeedResistance), weighted by the edge length each
+  // engages, and c-hat is taken from the edge's sweep at a grid speed free of the substep
+  // (CuttingParameters::resistance_cfl, resistance_approach_gain).
+  if (context.knife_on && grid_totals.edge_sweep_m2_s > 0.0) {
     const ContactMaterials& foods = workspace_->contact_materials;
     const ContactMaterial& only = foods.At(Eigen::Vector3d::Zero());  // every food's, when uniform
-    const double k2 = foods.uniform() ? only.k2_per_s : grid_totals.resistance_sum / grid_totals.approach_speed_sum;
-    const double wave_speed_m_s =
-        foods.uniform() ? only.wave_speed_m_s : grid_totals.wave_speed_sum / grid_totals.approach_speed_sum;
-    const double c_hat = ResistanceContactStrength(grid_totals.approach_speed_sum, wave_speed_m_s);
+    const double sweep = grid_totals.edge_sweep_m2_s;
+    const double k2 = foods.uniform() ? only.k2_per_s : grid_totals.resistance_sum / sweep;
+    const double wave_speed_m_s = foods.uniform() ? only.wave_speed_m_s : grid_totals.wave_speed_sum / sweep;
+    const double c_hat = ResistanceContactStrength(sweep, wave_speed_m_s);
     diagnostics.knife_speed_factor = 1.0 / (1.0 + k2 * c_hat * dt_s);
   }
   return diagnostics;

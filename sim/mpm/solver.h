@@ -138,8 +138,9 @@ class Solver {
   // all in one OpenMP parallel region: every thread of the team calls each stage, which shares its
   // work out inside (orphaned work-sharing; one fork and join per substep, few barriers).
   SubstepContext MakeContext(double dt_s) const;              // solver.cc
-  // c-hat for the speed resistance: at the touched food's wave speed (CuttingParameters::resistance_cfl).
-  double ResistanceContactStrength(double approach_speed_sum_m_s, double wave_speed_m_s) const;  // solver.cc
+  // c-hat for the speed resistance, from the edge's sweep (m^2/s) at the touched food's wave speed
+  // (CuttingParameters::resistance_cfl).
+  double ResistanceContactStrength(double edge_sweep_m2_s, double wave_speed_m_s) const;  // solver.cc
   void PrepareWorkspace(int team);                            // solver_grid_box.cc, before the team
   void RunSubstepInTeam(const SubstepContext& context, SubstepShared* shared,
                         ContactState* contact);               // solver.cc, every thread

@@ -125,8 +125,13 @@ void Solver<Real>::UpdateGrid(const SubstepContext& context, ContactState* conta
               totals->edge_impulse += m * (v - before);
             }
             totals->approach_speed_sum += approach;
-            totals->resistance_sum += approach * food_here.k2_per_s;
-            totals->wave_speed_sum += approach * food_here.wave_speed_m_s;
+            // The edge length this node stands for times the edge's own speed into the food: unlike the
+            // approach speed, neither grows with the substep (the speed resistance's contact strength).
+            const double sweep_m2_s = share * EdgeFill(m, food_here.density_kg_m3, dx) * dx *
+                                      std::max(0.0, knife_->motion().VelocityAt(x).dot(cutting_direction));
+            totals->edge_sweep_m2_s += sweep_m2_s;
+            totals->resistance_sum += sweep_m2_s * food_here.k2_per_s;
+            totals->wave_speed_sum += sweep_m2_s * food_here.wave_speed_m_s;
           }
         } else {
           const SdfSample sample = knife_->Blade(x);

@@ -26,7 +26,8 @@ struct GridTotals {
   Eigen::Vector3d other_impulse = Eigen::Vector3d::Zero();   // gravity, damping, caps
   double mass = 0.0;                                         // kg on the grid
   double approach_speed_sum = 0.0;                           // over blade-contact nodes, m/s
-  double resistance_sum = 0.0;                               // the same, each times its food's k2
+  double edge_sweep_m2_s = 0.0;  // over edge-contact nodes: share x fill x dx x the edge's speed into the food
+  double resistance_sum = 0.0;                               // the sweep's terms, each times its food's k2
   double wave_speed_sum = 0.0;                               // the same, each times its food's wave speed
   std::int64_t speed_caps = 0;
 
@@ -39,6 +40,7 @@ struct GridTotals {
     other_impulse += other.other_impulse;
     mass += other.mass;
     approach_speed_sum += other.approach_speed_sum;
+    edge_sweep_m2_s += other.edge_sweep_m2_s;
     resistance_sum += other.resistance_sum;
     wave_speed_sum += other.wave_speed_sum;
     speed_caps += other.speed_caps;
