@@ -27,7 +27,8 @@ from culinarycut.launch import ServerProcess
 from culinarycut.policies import run_oracle_episode
 from culinarycut.scenes import CUT_CUCUMBER_INSTRUCTION, cut_cucumber_scene
 
-from step_latency import machine_info  # bench/, this script's folder
+from accuracy_cost import standard_verdict  # bench/, this script's folder
+from step_latency import machine_info
 
 ROOT = Path(__file__).resolve().parents[1]
 STAGES = ("robot", "mpm", "render", "rpc_client")
@@ -53,6 +54,9 @@ SETTINGS = {
 }
 # The side-by-side speed-up the accuracy study's target asks for: this setting over the previous standard.
 FAST, YARDSTICK = "standard, mass x16", "previous standard"
+# The two episodes the target compares run again after the others, and each keeps its fastest run: the machine's
+# drift only ever slows a run down.
+REPEATED = ("standard", YARDSTICK)
 
 
 def measure(client: Client, preset: str, max_wall_s: float) -> dict:
@@ -117,15 +121,20 @@ def main() -> int:
     if args.render_only:
         write_page(json.loads((out / "cut_episode.json").read_text()))
         return 0
-    rows = []
+    rows: dict[str, dict] = {}
+    repeats = list(REPEATED) if set(REPEATED) <= set(args.settings) else []
     server = ServerProcess(max_sessions=2, idle_timeout_s=3600)
     try:
         with Client(server.address, timeout_s=3600) as client:
-            for preset in args.settings:
-                rows.append(measure(client, preset, args.max_wall_s))
+            for preset in [*args.settings, *repeats]:
+                row = measure(client, preset, args.max_wall_s)
+                runs = [*rows[preset]["wall_s_runs"], row["wall_s"]] if preset in rows else [row["wall_s"]]
+                if preset not in rows or row["wall_s"] < rows[preset]["wall_s"]:
+                    rows[preset] = row
+                rows[preset]["wall_s_runs"] = runs
     finally:
         server.stop()
-    stored = {"machine": machine_info(), "date": time.strftime("%Y-%m-%d"), "rows": rows}
+    stored = {"machine": machine_info(), "date": time.strftime("%Y-%m-%d"), "rows": list(rows.values())}
     (out / "cut_episode.json").write_text(json.dumps(stored, indent=1))
     write_page(stored)
     return 0
@@ -167,18 +176,26 @@ def write_page(stored: dict) -> None:
             f"{row['peak_wrist_force_n']:.1f} | {outcome} |")
     by_name = {row["preset"]: row for row in rows}
     yardstick = by_name.get(YARDSTICK)
-    for name, accuracy in (("standard", "as accurate on every quantity but the knife's speed"),
+    for name, accuracy in (("standard", standard_verdict()),
                            (FAST, "not as accurate: its windowed peak force is 1.4-2 % higher")):
         row = by_name.get(name)
         if row is None or yardstick is None or not (row["complete"] and yardstick["complete"]):
             continue
+        walls, yard_walls = row.get("wall_s_runs", []), yardstick.get("wall_s_runs", [])
+        repeated = (f"fastest of {len(walls)} runs each, run by run "
+                    + ", ".join(f"{a / b:.2f}x" for a, b in zip(yard_walls, walls)) + "; ") if len(walls) > 1 else ""
         lines += ["", f"**{name}** against the **{YARDSTICK}** preset (8 ppc, CFL 0.2), side by side in this run: "
-                  f"{yardstick['wall_s'] / row['wall_s']:.1f}x less wall time per episode "
-                  f"({yardstick['wall_s']:.0f} s -> {row['wall_s']:.0f} s; MPM {yardstick['stages_s']['mpm']:.0f} s -> "
+                  f"{yardstick['wall_s'] / row['wall_s']:.2f}x less wall time per episode and "
+                  f"{(yardstick['particles'] * yardstick['mpm_substeps']) / (row['particles'] * row['mpm_substeps']):.1f}x "
+                  f"less MPM work ({repeated}"
+                  f"{yardstick['wall_s']:.0f} s -> {row['wall_s']:.0f} s; MPM {yardstick['stages_s']['mpm']:.0f} s -> "
                   f"{row['stages_s']['mpm']:.0f} s); from first contact until the task succeeds "
                   f"{yardstick['cut_wall_s'] / row['cut_wall_s']:.1f}x ({yardstick['cut_wall_s']:.0f} s -> "
                   f"{row['cut_wall_s']:.0f} s); {accuracy} (docs/accuracy.md, docs/benchmarks/seed_spread.md)."]
-    lines += ["", "The accuracy of each setting against a converged reference is measured on cc-cut's cuts in "
+    lines += ["", "Both run on today's server, which wakes the food 2.5 grid cells from the knife; the episode the "
+              "accuracy study's 5x target was set against woke it 2 cm out. That comparison (in-process, without "
+              "cameras, the whole episode and until the task succeeds) is docs/benchmarks/wake_margin.md.",
+              "", "The accuracy of each setting against a converged reference is measured on cc-cut's cuts in "
               "docs/accuracy.md (a robot episode at the reference's resolution would take hours)."]
     lines += ["", "![stages per preset](../images/cut_episode_stages.png)", ""]
     (ROOT / "docs" / "benchmarks" / "cut_episode.md").write_text("\n".join(lines))
