@@ -1,7 +1,9 @@
 // One robot episode of the example cut (the scripted oracle cuts a real cucumber 0.3 from the left;
 // robot, MPM, damage, friction, topology and force sensing; no cameras) with MPM woken either 2 cm
-// from the food, as it was, or kActivationMarginCells grid cells from it, as it is now. Prints one
-// JSON object; bench/wake_margin_report.py runs the settings side by side and writes the page.
+// from the food, as it was, or kActivationMarginCells grid cells from it, as it is now, run until the
+// oracle's plan ends (as examples/cut_cucumber.py runs it): the totals are until the task succeeds,
+// the episode_ ones to the end. Prints one JSON object; bench/wake_margin_report.py runs the settings
+// side by side and writes the page.
 //
 //   bench_wake_margin QUALITY MARGIN [CFL PPC]     MARGIN: "cells" (now) or "2cm" (before)
 #include <algorithm>
@@ -9,6 +11,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -60,37 +63,45 @@ int Run(const std::string& quality, const std::string& margin, int argc, char** 
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   int steps = 0, mpm_substeps = 0, substeps_before_contact = 0, first_contact_step = 0;
-  double peak_force_n = 0.0;
+  int episode_steps = 0, episode_mpm_substeps = 0;
+  double peak_force_n = 0.0, wall_s = 0.0, sim_s = 0.0;
   JsonList force_n, step_wall_s, step_mpm_substeps;
   StepResult last;
-  while (!oracle.Finished(state.sim_time_s) && !last.terminated) {
+  std::optional<task::TaskScore> score;  // when the task succeeded, else at the end
+  while (!oracle.Finished(state.sim_time_s)) {
     const Eigen::VectorXd action = oracle.Act(*model, state.physics->JointPositions(), state.sim_time_s);
     const auto step_start = Clock::now();
     last = Step(*model, &state, Action{oracle.control_mode(), action});
     step_wall_s.Add(std::chrono::duration<double>(Clock::now() - step_start).count());
+    ++episode_steps;
+    episode_mpm_substeps += last.mpm_substeps;
+    step_mpm_substeps.Add(last.mpm_substeps);
+    if (score && score->success) continue;  // after success: only the episode's totals
+    score = last.task_score;
     ++steps;
     mpm_substeps += last.mpm_substeps;
-    step_mpm_substeps.Add(last.mpm_substeps);
+    wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+    sim_s = state.sim_time_s;
     if (last.first_contact) first_contact_step = steps;
     if (first_contact_step == 0) substeps_before_contact += last.mpm_substeps;
     const double force = state.food->control_step_wrench.force_n.norm();
     peak_force_n = std::max(peak_force_n, force);
     force_n.Add(force);
   }
-  const double wall_s = std::chrono::duration<double>(Clock::now() - start).count();
-  if (!last.task_score || last.task_score->required.empty()) throw std::runtime_error("the episode was not scored");
-  const task::TaskScore& score = *last.task_score;
+  const double episode_wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+  if (!score || score->required.empty()) throw std::runtime_error("the episode was not scored");
   std::printf(
       "{\"quality\": \"%s\", \"margin\": \"%s\", \"margin_m\": %.4f, \"cfl\": %g, \"particles_per_cell\": %d, "
       "\"particles\": %zu, \"steps\": %d, \"sim_s\": %.3f, \"wall_s\": %.3f, \"mpm_substeps\": %d, "
       "\"substeps_before_contact\": %d, \"first_contact_step\": %d, \"success\": %s, \"pieces\": %zu, "
       "\"position_error_fraction\": %.6f, \"peak_force_n\": %.4f, \"force_n\": %s, \"step_wall_s\": %s, "
-      "\"step_mpm_substeps\": %s}\n",
+      "\"step_mpm_substeps\": %s, \"episode_steps\": %d, \"episode_wall_s\": %.3f, \"episode_mpm_substeps\": %d}\n",
       quality.c_str(), margin.c_str(), model->food->activation_margin_m, model->food->resolution.cfl,
-      model->food->resolution.particles_per_cell, model->food->initial_particles.size(), steps, state.sim_time_s,
-      wall_s, mpm_substeps, substeps_before_contact, first_contact_step, score.success ? "true" : "false",
-      state.food->pieces.size(), score.required.front().position_error_fraction, peak_force_n,
-      force_n.Str().c_str(), step_wall_s.Str().c_str(), step_mpm_substeps.Str().c_str());
+      model->food->resolution.particles_per_cell, model->food->initial_particles.size(), steps, sim_s,
+      wall_s, mpm_substeps, substeps_before_contact, first_contact_step, score->success ? "true" : "false",
+      state.food->pieces.size(), score->required.front().position_error_fraction, peak_force_n,
+      force_n.Str().c_str(), step_wall_s.Str().c_str(), step_mpm_substeps.Str().c_str(), episode_steps,
+      episode_wall_s, episode_mpm_substeps);
   return 0;
 }
 
