@@ -581,7 +581,11 @@ def _knife_speed_finding(stored: dict) -> str:
     """How far the knife's speed (as the world slows it) moves with the setting, from the stored rows."""
     slow = {r["key"]: r for r in stored["slow"]["rows"]}
     whole = {r["key"]: r for r in stored["whole"]["rows"]}
-    loss = lambda rows, s: 100 * (1.0 - rows[s.key]["knife_speed_factor"])  # noqa: E731 (% of the speed)
+
+    def loss(rows: dict, setting: Setting) -> float:
+        """The share of its speed the knife loses to the food, %."""
+        return 100 * (1.0 - rows[setting.key]["knife_speed_factor"])
+
     cfls = [s for s in sorted(SLOW_GRID, key=lambda s: s.cfl) if (s.dx_mm, s.particles_per_cell, s.mass_scaling,
                                                                      s.activity_mm) == (4, 6, 1.0, 0.0)]
     worst = {r["key"]: r["worst"]["knife_speed"] for r in stored["rows"]}
