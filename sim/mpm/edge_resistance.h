@@ -39,10 +39,9 @@ inline double EdgeFill(double node_mass_kg, double density_kg_m3, double dx_m) {
 }
 
 // The most impulse (N s) the edge may give a node in one substep: its share of G_c times the edge
-// length the node stands for (dx, scaled by how full of food the node is) times dt.
-inline double EdgeImpulseCap(double share, double toughness_j_m2, double node_mass_kg,
-                             double density_kg_m3, double dx_m, double dt_s) {
-  return share * toughness_j_m2 * dx_m * EdgeFill(node_mass_kg, density_kg_m3, dx_m) * dt_s;
+// length the node stands for (dx, scaled by how full of food the node is: EdgeFill) times dt.
+inline double EdgeImpulseCap(double share, double toughness_j_m2, double fill, double dx_m, double dt_s) {
+  return share * toughness_j_m2 * dx_m * fill * dt_s;
 }
 
 // Scales the velocity change `after - before` of a node of mass `mass_kg` down so that its

@@ -114,12 +114,12 @@ void Solver<Real>::UpdateGrid(const SubstepContext& context, ContactState* conta
         if (share > 0.0) {
           // The edge pushes the food ahead of it with at most its share of G_c L (edge_resistance.h).
           const Eigen::Vector3d before = v;
-          if (ResolveContact(cutting_direction, knife_->motion().VelocityAt(x), food_at_node().knife_friction,
-                             use_friction, &v, &approach)) {
+          const Eigen::Vector3d knife_velocity = knife_->motion().VelocityAt(x);
+          if (ResolveContact(cutting_direction, knife_velocity, food_at_node().knife_friction, use_friction, &v,
+                             &approach)) {
             const ContactMaterial& food_here = food_at_node();
-            CapImpulse(before, m,
-                       EdgeImpulseCap(share, food_here.toughness_j_m2, m, food_here.density_kg_m3, dx, dt_s),
-                       &v);
+            const double fill = EdgeFill(m, food_here.density_kg_m3, dx);
+            CapImpulse(before, m, EdgeImpulseCap(share, food_here.toughness_j_m2, fill, dx, dt_s), &v);
             if (sense_force) {
               totals->blade_impulse += m * (v - before);
               totals->edge_impulse += m * (v - before);
@@ -127,8 +127,8 @@ void Solver<Real>::UpdateGrid(const SubstepContext& context, ContactState* conta
             totals->approach_speed_sum += approach;
             // The edge length this node stands for times the edge's own speed into the food: unlike the
             // approach speed, neither grows with the substep (the speed resistance's contact strength).
-            const double sweep_m2_s = share * EdgeFill(m, food_here.density_kg_m3, dx) * dx *
-                                      std::max(0.0, knife_->motion().VelocityAt(x).dot(cutting_direction));
+            const double sweep_m2_s =
+                share * fill * dx * std::max(0.0, knife_velocity.dot(cutting_direction));
             totals->edge_sweep_m2_s += sweep_m2_s;
             totals->resistance_sum += sweep_m2_s * food_here.k2_per_s;
             totals->wave_speed_sum += sweep_m2_s * food_here.wave_speed_m_s;
