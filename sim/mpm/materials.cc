@@ -57,7 +57,8 @@ std::vector<Material> Presets() {
 }  // namespace
 
 double Material::dilatational_wave_speed_m_s() const {
-  return std::sqrt((lame_lambda_pa() + 2.0 * shear_modulus_pa()) / density_kg_m3);
+  return std::sqrt((lame_lambda_pa() + 2.0 * shear_modulus_pa() + 4.0 / 3.0 * maxwell_shear_modulus_pa()) /
+                   density_kg_m3);
 }
 
 void ValidateMaterial(const Material& material) {
@@ -84,6 +85,13 @@ void ValidateMaterial(const Material& material) {
   }
   if (!(material.board_friction_coefficient >= 0.0 && std::isfinite(material.board_friction_coefficient))) {
     throw std::invalid_argument(where + "board_friction_coefficient must be >= 0");
+  }
+  // A branch far stiffer than the base would make the food's wave speed, and so its substeps, explode.
+  if (!(material.maxwell_modulus_ratio >= 0.0 && material.maxwell_modulus_ratio <= 100.0)) {
+    throw std::invalid_argument(where + "maxwell_modulus_ratio must be in [0, 100] (0: no Maxwell branch)");
+  }
+  if (!(material.maxwell_relaxation_time_s >= 0.0 && material.maxwell_relaxation_time_s <= 1e6)) {
+    throw std::invalid_argument(where + "maxwell_relaxation_time_s must be in [0, 1e6] s (0: no Maxwell branch)");
   }
   // Tough plant tissue is below 1 kJ/m^2; far above that the knife could not cut at all.
   if (!(material.fracture_toughness_j_m2 >= 0.0 && material.fracture_toughness_j_m2 <= 1e4)) {

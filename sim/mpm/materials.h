@@ -24,13 +24,25 @@ struct Material {
   // resistance (the blade's faces alone push back). The cucumber and potato presets hold an effective
   // value calibrated against LS-DYNA cutting references (docs/physics_validation.md).
   double fracture_toughness_j_m2 = 100.0;
+  // Viscoelasticity (physics/viscoelasticity.h): a Maxwell branch of shear modulus maxwell_modulus_ratio
+  // x mu beside the elastic base, relaxing with maxwell_relaxation_time_s (a standard linear solid). E is
+  // then the equilibrium (long-time) modulus and E (1 + ratio) the instantaneous one in shear. 0: none.
+  double maxwell_modulus_ratio = 0.0;
+  double maxwell_relaxation_time_s = 0.0;
   std::string source;                 // where the numbers come from
 
   double shear_modulus_pa() const { return youngs_modulus_pa / (2.0 * (1.0 + poisson_ratio)); }
   double lame_lambda_pa() const {
     return youngs_modulus_pa * poisson_ratio / ((1.0 + poisson_ratio) * (1.0 - 2.0 * poisson_ratio));
   }
-  // P-wave speed sqrt((lambda + 2 mu) / rho), m/s: what the CFL time step is bound by.
+  // The Maxwell branch's shear modulus mu_1 (Pa); 0 without a branch.
+  double maxwell_shear_modulus_pa() const {
+    return maxwell_modulus_ratio > 0.0 && maxwell_relaxation_time_s > 0.0
+               ? maxwell_modulus_ratio * shear_modulus_pa()
+               : 0.0;
+  }
+  // Instantaneous P-wave speed sqrt((lambda + 2 mu + 4/3 mu_1) / rho), m/s: what the CFL time step is
+  // bound by (the Maxwell branch stiffens a fast load by its deviatoric 4/3 mu_1).
   double dilatational_wave_speed_m_s() const;
 };
 

@@ -43,6 +43,7 @@ void ForEachParticleArray(P& p, S& spare, B& blocks, F&& f) {
   f(p.mass, spare.mass);
   f(p.volume, spare.volume);
   f(p.plastic_strain, spare.plastic_strain);
+  for (int k = 0; k < 6; ++k) f(p.maxwell_stress[k], spare.maxwell_stress[k]);
   f(p.damage, spare.damage);
   f(p.piece, spare.piece);
   f(p.blade_side, spare.blade_side);

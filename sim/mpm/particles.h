@@ -31,6 +31,9 @@ struct Particles {
   std::vector<Real> mass;                      // kg
   std::vector<Real> volume;                    // initial volume, m^3
   std::vector<Real> plastic_strain;            // accumulated equivalent plastic strain (alpha)
+  // Kirchhoff stress of the material's Maxwell branch (Pa; xx yy zz xy yz zx, physics/viscoelasticity.h);
+  // zero for a material without one.
+  std::array<std::vector<Real>, 6> maxwell_stress;
   std::vector<Real> damage;                    // D in [0, 1]; scales the Lame parameters by 1 - D
   std::vector<std::int32_t> piece;             // connected-piece label from topology (-1: none yet)
   std::vector<std::int8_t> blade_side;         // BladeSide
@@ -58,6 +61,7 @@ struct Particles {
     mass.push_back(mass_kg);
     volume.push_back(volume_m3);
     plastic_strain.push_back(Real(0));
+    for (auto& component : maxwell_stress) component.push_back(Real(0));
     damage.push_back(Real(0));
     piece.push_back(-1);
     blade_side.push_back(static_cast<std::int8_t>(BladeSide::kUnassigned));

@@ -61,7 +61,15 @@ Solver<Real>::Solver(std::shared_ptr<const SolverModel> model)
   if (!model_) throw std::invalid_argument("solver: no model");
   ValidateSolverConfig(config());
   if (materials().empty()) throw std::invalid_argument("solver: give at least one material");
-  for (const Material& material : materials()) ValidateMaterial(material);
+  bool any_maxwell = false;
+  for (const Material& material : materials()) {
+    ValidateMaterial(material);
+    any_maxwell = any_maxwell || material.maxwell_shear_modulus_pa() > 0.0;
+  }
+  if (any_maxwell && materials().size() > kMaxMaxwellMaterials) {
+    throw std::invalid_argument("solver: at most " + std::to_string(kMaxMaxwellMaterials) +
+                                " materials when any has a Maxwell branch (maxwell_modulus_ratio > 0)");
+  }
 }
 
 template <typename Real>
@@ -272,6 +280,8 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
     cut_progress_.current = std::min<std::uint32_t>(cut_progress_.cuts_made, kMaxRecordedCuts - 1);
   }
   const SubstepContext context = MakeContext(dt_s);
+  // Particles built field by field (tests, tools) may lack the Maxwell branch's stress: start it at zero.
+  for (auto& component : particles_.maxwell_stress) component.resize(particles_.size(), Real(0));
   UpdateActivity(context);
   if (active_count_ == 0) {  // all frozen: nothing moves, but the activity checks go on
     ++workspace_->substeps_since_reorder;

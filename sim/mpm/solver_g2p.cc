@@ -6,6 +6,7 @@
 #include <limits>
 #include <type_traits>
 
+#include "sim/mpm/physics/viscoelasticity.h"
 #include "sim/mpm/solver_internals.h"
 #include "sim/mpm/transfer_stencil.h"
 
@@ -124,6 +125,22 @@ void Solver<Real>::GridToParticles(const SubstepContext& context, const ContactS
   const GridNode<Real>* const layer[2] = {grid.layer[0].data(), grid.layer[1].data()};
   const std::size_t stride_i = grid.stride_i();
   const std::size_t stride_j = grid.stride_j();
+  // Each material's Maxwell branch over this substep (physics/viscoelasticity.h); a few materials at
+  // most, so a small table on the stack.
+  constexpr std::size_t kMaxwellTable = kMaxMaxwellMaterials;
+  struct MaxwellBranch {
+    Real shear_modulus_pa = 0;
+    MaxwellStep step;
+  };
+  MaxwellBranch maxwell_of[kMaxwellTable];
+  bool any_maxwell = false;
+  for (std::size_t m = 0; m < materials().size() && m < kMaxwellTable; ++m) {
+    const Material& material = materials()[m];
+    maxwell_of[m] = {Real(material.maxwell_shear_modulus_pa()),
+                     MaxwellStepFor(dt_s, material.maxwell_relaxation_time_s)};
+    any_maxwell = any_maxwell || maxwell_of[m].shear_modulus_pa > Real(0);
+  }
+  const std::uint16_t* const material_of = p.material.data();
 
   // One particle's gather from its 27 nodes into lane l of (v, C).
   auto gather = [&](std::size_t q, int l, const auto& stencil, auto& v, auto& C) {
@@ -264,6 +281,17 @@ void Solver<Real>::GridToParticles(const SubstepContext& context, const ContactS
     }
     for (int k = 0; k < 9; ++k) {
       for (int l = 0; l < W; ++l) F_of[k][q0 + l] = F[k][l];
+    }
+    // The Maxwell branch relaxes and takes up the substep's strain rate (C is the velocity gradient).
+    for (int l = 0; l < W && any_maxwell; ++l) {
+      const std::size_t q = q0 + l;
+      const MaxwellBranch& branch = maxwell_of[material_of[q]];
+      if (!(branch.shear_modulus_pa > Real(0))) continue;
+      Real velocity_gradient[9], stress[6];
+      for (int k = 0; k < 9; ++k) velocity_gradient[k] = C[k][l];
+      for (int k = 0; k < 6; ++k) stress[k] = p.maxwell_stress[k][q];
+      UpdateMaxwellStress(velocity_gradient, dt, branch.shear_modulus_pa, branch.step, stress);
+      for (int k = 0; k < 6; ++k) p.maxwell_stress[k][q] = stress[k];
     }
     // Totals in particle order: the same sums whatever the thread count.
     for (int l = 0; l < W; ++l) {

@@ -23,6 +23,9 @@ namespace culinarycut::mpm {
 // c-hat = (edge nodes' approach speeds, scaled to the reference grid) / (0.35 x a grid speed) (paper).
 constexpr double kContactStrengthScale = 0.35;
 
+// Materials a solver with a Maxwell branch may have (G2P keeps their branches in a table on the stack).
+constexpr std::size_t kMaxMaxwellMaterials = 16;
+
 // Nodes split by blade side only once the edge is this far below them (in dx); closer to the edge
 // the node is pushed by the edge itself (edge_resistance.h).
 constexpr double kSplitAboveEdgeCells = 0.5;

@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "sim/mpm/constitutive.h"
+#include "sim/mpm/physics/viscoelasticity.h"
 #include "sim/mpm/polar_batch.h"
 #include "sim/mpm/solver_internals.h"
 #include "sim/mpm/stress_batch.h"
@@ -61,6 +62,22 @@ double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context, std::s
     for (int k = 0; k < 9; ++k) p.F[k][q] = (*F)(k / 3, k % 3);
     return true;
   };
+  // Adds particle q's Maxwell branch stress, softened by its damage like the shear it is, to its
+  // Kirchhoff stress; returns the energy density the branch stores (J/m^3).
+  auto add_maxwell_stress = [&](std::size_t q, Matrix3<Real>* tau) {
+    const Real mu_1 = Real(materials()[p.material[q]].maxwell_shear_modulus_pa());
+    if (!(mu_1 > Real(0))) return Real(0);
+    Real branch[6];
+    for (int k = 0; k < 6; ++k) branch[k] = p.maxwell_stress[k][q];
+    const Real intact = Real(1) - p.damage[q];
+    const int rows[6] = {0, 1, 2, 0, 1, 2};
+    const int cols[6] = {0, 1, 2, 1, 2, 0};
+    for (int k = 0; k < 6; ++k) {
+      (*tau)(rows[k], cols[k]) += intact * branch[k];
+      if (k >= 3) (*tau)(cols[k], rows[k]) += intact * branch[k];
+    }
+    return intact * MaxwellEnergyDensity(branch, mu_1);
+  };
   // Stress of one particle given its rotation R; returns its elastic energy (J).
   auto particle_stress = [&](std::size_t q, const Matrix3<Real>& R) {
     Matrix3<Real> F;
@@ -70,13 +87,14 @@ double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context, std::s
     const Real J = F.determinant();
     const Lame<Real> lame = DamagedLame(Real(material.shear_modulus_pa()), Real(material.lame_lambda_pa()),
                                         p.damage[q], J);
-    const Matrix3<Real> tau = CorotatedKirchhoffStress(F, R, J, lame);
+    Matrix3<Real> tau = CorotatedKirchhoffStress(F, R, J, lame);
     const Real volume_scale = stress_scale * p.volume[q];
     const Real m = p.mass[q];
+    const Real maxwell_energy = add_maxwell_stress(q, &tau);
     Real affine[9][1];
     for (int k = 0; k < 9; ++k) affine[k][0] = volume_scale * tau(k / 3, k % 3) + m * p.C[k][q];
     transfer_values(q, affine);
-    return double(p.volume[q]) * CorotatedEnergyDensity(F, R, J, lame);
+    return double(p.volume[q]) * (CorotatedEnergyDensity(F, R, J, lame) + maxwell_energy);
   };
   // Per-material constants, computed once per substep rather than per particle.
   struct MaterialConstants {
@@ -92,8 +110,10 @@ double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context, std::s
   MaterialConstants* const material_constants =
       materials().size() > kStackMaterials ? heap_constants.data() : stack_constants;
   bool any_plastic = false;
+  bool any_maxwell = false;  // off: the branch's arrays are not read
   for (std::size_t m = 0; m < materials().size(); ++m) {
     const Material& material = materials()[m];
+    any_maxwell = any_maxwell || material.maxwell_shear_modulus_pa() > 0.0;
     // The same early-out as ReturnToYieldSurface (see YieldTestFraction).
     const double full_yield_strain =
         std::sqrt(2.0 / 3.0) * material.yield_stress_pa / (2.0 * material.shear_modulus_pa());
@@ -152,6 +172,12 @@ double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context, std::s
       }
       CorotatedAffineBatch<Real, kLanes>(F_lanes, R_lanes, C_lanes, mu, lambda, lambda_undamaged, volume_scale, mass,
                                          volume, affine_lanes, energy);
+      for (int l = 0; l < kLanes && any_maxwell; ++l) {
+        Matrix3<Real> branch = Matrix3<Real>::Zero();
+        const Real branch_energy = add_maxwell_stress(q + l, &branch);
+        for (int k = 0; k < 9; ++k) affine_lanes[k][l] += volume_scale[l] * branch(k / 3, k % 3);
+        energy[l] += volume[l] * branch_energy;
+      }
       transfer_values(q, affine_lanes);
       for (int l = 0; l < kLanes; ++l) chunk_energy += energy[l];
     }

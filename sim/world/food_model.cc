@@ -32,11 +32,13 @@ mpm::Material ResolveFoodMaterial(const FoodConfig& food, const std::string& fie
     else if (key == "board_friction_coefficient") material.board_friction_coefficient = value;
     else if (key == "viscoplastic_relaxation_time_s") material.viscoplastic_relaxation_time_s = value;
     else if (key == "fracture_toughness_j_m2") material.fracture_toughness_j_m2 = value;
+    else if (key == "maxwell_modulus_ratio") material.maxwell_modulus_ratio = value;
+    else if (key == "maxwell_relaxation_time_s") material.maxwell_relaxation_time_s = value;
     else {
       throw SceneError(field + ".material_overrides: unknown key '" + key +
                        "'; use youngs_modulus_pa, poisson_ratio, density_kg_m3, yield_stress_pa, "
-                       "friction_coefficient, board_friction_coefficient, viscoplastic_relaxation_time_s or "
-                       "fracture_toughness_j_m2");
+                       "friction_coefficient, board_friction_coefficient, viscoplastic_relaxation_time_s, "
+                       "fracture_toughness_j_m2, maxwell_modulus_ratio or maxwell_relaxation_time_s");
     }
   }
   try {

@@ -112,6 +112,7 @@ void CheckFood(const Model& model, const State& state) {
     Require(AllFinite(p.F[k]), "food.F", "is not finite");
     Require(AllFinite(p.C[k]), "food.C", "is not finite");
   }
+  for (int k = 0; k < 6; ++k) Require(AllFinite(p.maxwell_stress[k]), "food.maxwell_stress", "is not finite");
   for (std::size_t i = 0; i < p.size(); ++i) {
     Require(std::isfinite(p.mass[i]) && p.mass[i] > 0, "food.mass", "must be finite and positive");
     Require(std::isfinite(p.volume[i]) && p.volume[i] > 0, "food.volume", "must be finite and positive");

@@ -46,6 +46,9 @@ void VisitParticles(Archive& archive, ParticlesT& p, std::size_t count) {
   archive.Array("food.mass", p.mass, count);
   archive.Array("food.volume", p.volume, count);
   archive.Array("food.plastic_strain", p.plastic_strain, count);
+  for (int k = 0; k < 6; ++k) {
+    archive.Array(("food.maxwell_stress[" + std::to_string(k) + "]").c_str(), p.maxwell_stress[k], count);
+  }
   archive.Array("food.damage", p.damage, count);
   archive.Array("food.piece", p.piece, count);
   archive.Array("food.blade_side", p.blade_side, count);

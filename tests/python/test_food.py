@@ -9,6 +9,9 @@ from culinarycut.client import food_to_dict
 from culinarycut.policies import ScriptedOracle, run_oracle_episode
 
 CUCUMBER = {"food": "cucumber"}  # the real material preset
+# The same with a Maxwell branch: its stress is state that a snapshot must carry.
+VISCOELASTIC_CUCUMBER = {"food": "cucumber",
+                         "material_overrides": {"maxwell_modulus_ratio": 1.0, "maxwell_relaxation_time_s": 0.05}}
 CUTTING_EFFECTS = {"mpm": True, "damage": True, "friction": True, "topology": True, "force_sensing": True}
 
 
@@ -188,11 +191,13 @@ def test_an_oracle_cut_splits_the_cucumber_and_loads_the_wrist_only_in_contact(c
     client.close_session(session)
 
 
-@pytest.mark.parametrize("mpm", [{}, {"activity_radius": 0.04}], ids=["every particle", "activity"])
-def test_restore_then_replay_gives_identical_force_traces(client, mpm):
+@pytest.mark.parametrize("mpm, food", [({}, CUCUMBER), ({"activity_radius": 0.04}, CUCUMBER),
+                                       ({}, VISCOELASTIC_CUCUMBER)],
+                         ids=["every particle", "activity", "viscoelastic"])
+def test_restore_then_replay_gives_identical_force_traces(client, mpm, food):
     """Snapshot in the middle of a cut; the replayed steps give bit-identical wrenches and pieces (with activity
-    too: which particles are frozen travels in the snapshot)."""
-    session = client.create_session({**cutting_scene(CUCUMBER), "mpm": mpm}).session_id
+    too: which particles are frozen travels in the snapshot, and so does a Maxwell branch's stress)."""
+    session = client.create_session({**cutting_scene(food), "mpm": mpm}).session_id
     client.reset(session, seed=5)
     oracle = ScriptedOracle(client, session)
     oracle.reset("cut the cucumber in the middle")

@@ -26,6 +26,8 @@ def food_scene(*objects, quality="draft", **extra) -> dict:
     (food_scene({"food": "cucumber", "material_overrides": {"youngs_modulus_pa": 2.5e11}}),
      "youngs_modulus_pa", "1e9"),
     (food_scene({"food": "cucumber", "material_overrides": {"density_kg_m3": 1e-9}}), "density_kg_m3", "[10, 1e4]"),
+    (food_scene({"food": "cucumber", "material_overrides": {"maxwell_modulus_ratio": 1e3}}),
+     "maxwell_modulus_ratio", "[0, 100]"),
     (food_scene({"food": "apple", "pose": {"position": [0.5, 0.0, 0.05]}},
                 {"food": "apple", "pose": {"position": [3.5, 0.0, 0.05]}}), "scene.objects[1].pose.position", "off the table"),
     ({"cameras": [{"name": f"c{i}", "width": 2048, "height": 2048,

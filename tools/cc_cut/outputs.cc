@@ -34,6 +34,8 @@ json MaterialJson(const mpm::Material& m) {
           {"friction_coefficient", m.friction_coefficient},
           {"board_friction_coefficient", m.board_friction_coefficient},
           {"fracture_toughness_j_m2", m.fracture_toughness_j_m2},
+          {"maxwell_modulus_ratio", m.maxwell_modulus_ratio},
+          {"maxwell_relaxation_time_s", m.maxwell_relaxation_time_s},
           {"dilatational_wave_speed_m_s", m.dilatational_wave_speed_m_s()},
           {"source", m.source}};
 }
