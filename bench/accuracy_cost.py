@@ -744,7 +744,7 @@ def markdown(stored: dict) -> str:
     lines += ["", "*Pieces off*: the most pieces a cut has more or fewer than the reference's. *Kinetic / elastic*: "
               "the food's kinetic over its elastic energy while the blade pushes on it (worst cut); mass scaling "
               "stays quasi-static while it is small. *Knife speed*: the knife's speed as the world would slow it by "
-              "the food's quadratic speed resistance (the paper's, sim/mpm/speed_resistance.h) at each 2 ms robot physics step, averaged over the cut. "
+              "the food's quadratic speed resistance (the paper's, sim/mpm/physics/speed_resistance.h) at each 2 ms robot physics step, averaged over the cut. "
               "*Final shape*: the RMS distance between where each particle's material ended and where the reference "
               "carried the material from the same rest point, after the best rigid fit of each piece (Kabsch), so "
               "it measures the pieces' shapes, not how far they slid.", "",

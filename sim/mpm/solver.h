@@ -134,7 +134,7 @@ class Solver {
   struct Workspace;   // per-substep scratch arrays, reused (solver_internals.h)
   struct FrozenLoad;  // what the frozen particles add to the grid (solver_internals.h)
 
-  // The stages of Substep, in order; each file solver_<stage>.cc holds one. Substep runs them
+  // The stages of Substep, in order; each file kernels/solver_<stage>.cc holds one. Substep runs them
   // all in one OpenMP parallel region: every thread of the team calls each stage, which shares its
   // work out inside (orphaned work-sharing; one fork and join per substep, few barriers).
   SubstepContext MakeContext(double dt_s) const;              // solver.cc

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sim/mpm/speed_resistance.h"
+#include "sim/mpm/physics/speed_resistance.h"
 
 namespace culinarycut {
 namespace {

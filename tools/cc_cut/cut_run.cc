@@ -8,7 +8,7 @@
 #include <string>
 
 #include "sim/core/stage_timer.h"
-#include "sim/mpm/speed_resistance.h"
+#include "sim/mpm/physics/speed_resistance.h"
 #include "sim/task/object_box.h"
 #include "sim/world/food_state.h"
 

@@ -8,9 +8,9 @@
 
 #include "cut_scenario.h"
 #include "mpm_fixtures.h"
-#include "sim/mpm/constitutive.h"
+#include "sim/mpm/physics/constitutive.h"
 #include "sim/mpm/solver.h"
-#include "sim/mpm/stress_batch.h"
+#include "sim/mpm/kernels/stress_batch.h"
 
 namespace culinarycut::mpm {
 namespace {

@@ -5,7 +5,7 @@
 #include "cut_scenario.h"
 #include "mpm_fixtures.h"
 #include "sim/mpm/solver.h"
-#include "sim/mpm/speed_resistance.h"
+#include "sim/mpm/physics/speed_resistance.h"
 
 namespace culinarycut::mpm {
 namespace {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "sim/mpm/solver_internals.h"
+#include "sim/mpm/kernels/solver_internals.h"
 
 namespace culinarycut::mpm {
 namespace {

@@ -7,8 +7,8 @@
 #include <type_traits>
 
 #include "sim/mpm/physics/viscoelasticity.h"
-#include "sim/mpm/solver_internals.h"
-#include "sim/mpm/transfer_stencil.h"
+#include "sim/mpm/kernels/solver_internals.h"
+#include "sim/mpm/kernels/transfer_stencil.h"
 
 namespace culinarycut::mpm {
 namespace {

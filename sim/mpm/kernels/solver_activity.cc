@@ -10,8 +10,8 @@
 #include <limits>
 #include <vector>
 
-#include "sim/mpm/solver_internals.h"
-#include "sim/mpm/transfer_stencil.h"
+#include "sim/mpm/kernels/solver_internals.h"
+#include "sim/mpm/kernels/transfer_stencil.h"
 
 namespace culinarycut::mpm {
 namespace {

@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-#include "sim/mpm/transfer_stencil.h"
+#include "sim/mpm/kernels/transfer_stencil.h"
 
 namespace culinarycut::mpm {
 

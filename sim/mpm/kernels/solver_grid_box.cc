@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "sim/mpm/solver_internals.h"
+#include "sim/mpm/kernels/solver_internals.h"
 
 namespace culinarycut::mpm {
 namespace {

@@ -1,11 +1,11 @@
-#include "sim/mpm/particle_blocks.h"
+#include "sim/mpm/kernels/particle_blocks.h"
 
 #include <algorithm>
 #include <utility>
 
 #include <omp.h>
 
-#include "sim/mpm/transfer_stencil.h"
+#include "sim/mpm/kernels/transfer_stencil.h"
 
 namespace culinarycut::mpm {
 namespace {
