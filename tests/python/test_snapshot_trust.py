@@ -23,8 +23,8 @@ SCENE = {"quality": "draft",
 # frame_id (8), sim_time_s (8), seed (8), episode_steps (4), the safety limiter's episode totals (3
 # uint64 interventions, 4 doubles, 1 bool), three joint vectors of (uint32 length + 7 doubles), then the
 # food's particle arrays, each a count (uint64) and its values: position x, y, z
-# (float32), velocity x, y, z, rest position x, y, z, F (9), C (9), mass, volume, plastic strain, damage (float32), piece
-# (int32), blade side (int8), cut sides (uint32), material (uint16), object (uint16).
+# (float32), velocity x, y, z, rest position x, y, z, F (9), C (9), mass, volume, plastic strain, Maxwell branch
+# stress (6), damage (float32), piece (int32), blade side (int8), cut sides (uint32), material (uint16), object (uint16).
 SEAL_HEADER = 8 + 32
 SAFETY = 3 * 8 + 4 * 8 + 1
 FOOD = 8 + 8 + 1 + 8 + 8 + 8 + 4 + SAFETY + 3 * (4 + 7 * 8)
@@ -48,9 +48,9 @@ def array_offset(engine: bytes, index: int, item_sizes: list[int]) -> int:
 
 
 # Item sizes of the particle arrays in order: 3 positions, 3 velocities, 3 rest positions, 9 F, 9 C, mass, volume,
-# plastic strain, damage, piece, blade side, cut sides, material, object.
-ITEM_SIZES = [4] * 3 + [4] * 3 + [4] * 3 + [4] * 9 + [4] * 9 + [4, 4, 4, 4, 4, 1, 4, 2, 2]
-CUT_SIDES, MATERIAL, OBJECT, POSITION_Z, VELOCITY_X, REST_Z, MASS = 33, 34, 35, 2, 3, 8, 27
+# plastic strain, 6 Maxwell stresses, damage, piece, blade side, cut sides, material, object.
+ITEM_SIZES = [4] * 3 + [4] * 3 + [4] * 3 + [4] * 9 + [4] * 9 + [4, 4, 4] + [4] * 6 + [4, 4, 1, 4, 2, 2]
+CUT_SIDES, MATERIAL, OBJECT, POSITION_Z, VELOCITY_X, REST_Z, MASS, MAXWELL_XY = 39, 40, 41, 2, 3, 8, 27, 33
 
 
 def patched(engine: bytes, array: int, fmt: str, value) -> bytes:
@@ -112,6 +112,7 @@ def test_snapshots_move_between_servers_only_with_a_shared_key(client, keyed_ser
     (VELOCITY_X, "<f", 1e6, "food.velocity"),
     (CUT_SIDES, "<I", 0b10, "food.cut_sides"),
     (REST_Z, "<f", float("inf"), "food.rest_position"),
+    (MAXWELL_XY, "<f", float("nan"), "food.maxwell_stress"),
 ])
 def test_authentic_but_impossible_snapshots_are_refused_naming_the_field(keyed_server, array, fmt, value, field):
     server, key, _ = keyed_server

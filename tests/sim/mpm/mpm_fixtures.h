@@ -7,6 +7,7 @@
 
 #include "sim/mpm/materials.h"
 #include "sim/mpm/particles.h"
+#include "sim/mpm/solver.h"
 
 namespace culinarycut::mpm::testing {
 
@@ -74,6 +75,33 @@ inline Material SoftMaterial(double youngs_pa = 1e5, double poisson = 0.3) {
   material.density_kg_m3 = 1000.0;
   material.yield_stress_pa = 0.0;
   return material;
+}
+
+// Steps `solver` at its stable dt until the mean `axis` velocity of the particles with x below
+// `end_x_m` (one end of a bar or beam along x) first turns from positive to non-positive; returns
+// that time (s), linearly interpolated within the substep, or 0 if it does not within `max_steps`.
+inline double FirstEndVelocityReversal(Solver<double>* solver, int axis, double end_x_m, int max_steps) {
+  const Particles<double>& p = solver->particles();
+  auto end_velocity = [&] {
+    double sum = 0.0;
+    int count = 0;
+    for (std::size_t q = 0; q < p.size(); ++q) {
+      if (p.position[0][q] < end_x_m) {
+        sum += p.velocity[axis][q];
+        ++count;
+      }
+    }
+    return sum / count;
+  };
+  const double dt = solver->StableTimestep();
+  double previous = end_velocity();
+  for (int s = 1; s < max_steps; ++s) {
+    solver->Substep(dt);
+    const double current = end_velocity();
+    if (previous > 0.0 && current <= 0.0) return dt * (s - 1 + previous / (previous - current));
+    previous = current;
+  }
+  return 0.0;
 }
 
 }  // namespace culinarycut::mpm::testing

@@ -13,6 +13,7 @@ namespace culinarycut::mpm {
 namespace {
 
 using testing::AddBlock;
+using testing::FirstEndVelocityReversal;
 using testing::SoftMaterial;
 
 // Pure shear at rate gamma_dot (1/s): L = D with D_xy = D_yx = gamma_dot / 2, no spin.
@@ -77,7 +78,7 @@ TEST_CASE("a rigid spin turns the branch's stress with the material and keeps it
   CHECK(std::abs(s[kXY]) < 5.0);
 }
 
-// The first end-velocity reversal of a free-free bar (nu = 0) along x: t = L / (2 c).
+// The bar wave speed c = L / (2 t) of a free-free bar along x, from its first end-velocity reversal t.
 double BarWaveSpeed(const Material& material) {
   SolverConfig config;
   config.dx_m = 0.005;
@@ -88,26 +89,8 @@ double BarWaveSpeed(const Material& material) {
                    &solver.particles());
   auto& p = solver.particles();
   for (std::size_t q = 0; q < p.size(); ++q) p.velocity[0][q] = 0.01 * std::cos(M_PI * p.position[0][q] / length_m);
-  auto end_velocity = [&] {
-    double sum = 0.0;
-    int count = 0;
-    for (std::size_t q = 0; q < p.size(); ++q) {
-      if (p.position[0][q] < 0.02) {
-        sum += p.velocity[0][q];
-        ++count;
-      }
-    }
-    return sum / count;
-  };
-  const double dt = solver.StableTimestep();
-  double previous = end_velocity();
-  for (int s = 1; s < 4000; ++s) {
-    solver.Substep(dt);
-    const double current = end_velocity();
-    if (previous > 0.0 && current <= 0.0) return length_m / (2.0 * dt * (s - 1 + previous / (previous - current)));
-    previous = current;
-  }
-  return 0.0;
+  const double crossing_s = FirstEndVelocityReversal(&solver, 0, 0.02, 4000);
+  return crossing_s > 0.0 ? length_m / (2.0 * crossing_s) : 0.0;
 }
 
 TEST_CASE("a viscoelastic bar rings at the instantaneous modulus when slow to relax, the equilibrium one when fast",
