@@ -156,8 +156,10 @@ def render_doc() -> None:
     """docs/physics_validation.md from the stored results of this script and of lsdyna_calibration.py."""
     stored = json.loads(RESULTS_JSON.read_text())
     calibration = json.loads(CALIBRATION_JSON.read_text()) if CALIBRATION_JSON.exists() else None
+    from physics_cases import markdown as hard_cases_markdown  # it imports this module: here, not at the top
     (ROOT / "docs" / "physics_validation.md").write_text(
-        _markdown(stored, stored["machine"], stored["speed_m_s"]) + _calibration_markdown(calibration))
+        _markdown(stored, stored["machine"], stored["speed_m_s"]) + _calibration_markdown(calibration)
+        + hard_cases_markdown())
 
 
 def _plot(results: dict) -> None:
