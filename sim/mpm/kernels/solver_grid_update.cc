@@ -38,7 +38,7 @@ void Solver<Real>::UpdateGrid(const SubstepContext& context, ContactState* conta
   const ContactMaterials& contact_materials = work.contact_materials;
   const bool use_friction = effects.friction;
   const Eigen::AlignedBox3d blade_box =
-      knife_on ? knife_->BladeBounds(dx) : Eigen::AlignedBox3d();
+      knife_on ? knife_->BladeBounds(kEdgeReachCells * dx) : Eigen::AlignedBox3d();
   const Eigen::AlignedBox3d handle_box =
       knife_on ? knife_->HandleBounds(dx) : Eigen::AlignedBox3d();
   const Eigen::AlignedBox3d board_box = board_ ? board_->Bounds(dx) : Eigen::AlignedBox3d();

@@ -13,16 +13,26 @@
 
 namespace culinarycut::mpm {
 
-// Nodes this close to the edge line (in dx, across the blade and along the cutting direction)
-// carry the edge; hat weights over that reach sum to one per column along the edge.
-constexpr double kEdgeReachCells = 1.0;
+// Nodes this close to the edge line across the blade (in dx) carry the edge (EdgeAcrossWeight); along
+// the cutting direction the reach is one cell (EdgeShare).
+constexpr double kEdgeReachCells = 1.5;
+
+// The weight across the blade of a node `cells` from the edge line (in dx): the quadratic B-spline,
+// which sums to 1 over the nodes of any column and stays within 2.1 % of that per unit of edge length
+// at every angle the edge makes with the grid (a tent of half-width 1 cell: -9 % to +12 % at 45 deg).
+inline double EdgeAcrossWeight(double cells) {
+  const double d = std::abs(cells);
+  if (d < 0.5) return 0.75 - d * d;
+  if (d < 1.5) return 0.5 * (1.5 - d) * (1.5 - d);
+  return 0.0;
+}
 
 // A node's share of the edge, in [0, 1], from its offsets to the edge line: `side_m` across the
 // blade and `height_m` above the edge (negative: ahead of the edge, in the food still to cut).
 // `above_is_split`: whether the node a cell above this one is split by blade side (it then sees
 // the blade's faces, not the edge), so this node carries the whole column's share.
 inline double EdgeShare(double side_m, double height_m, double dx_m, bool above_is_split) {
-  const double across = 1.0 - std::abs(side_m) / (kEdgeReachCells * dx_m);
+  const double across = EdgeAcrossWeight(side_m / dx_m);
   if (across <= 0.0 || height_m < -dx_m || height_m >= dx_m) return 0.0;
   double along = 0.0;
   if (height_m >= 0.0) {
