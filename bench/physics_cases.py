@@ -165,7 +165,8 @@ def _reading(groups: dict) -> list[str]:
     out.append("- **J clamps:** " + ("none in any case." if not clamps else
                                    f"{len(clamps)} cases bind the clamp: " + "; ".join(
                                        f"{k} ({v})" for k, v in clamps.items()) + "."))
-    out.append("- **Not here yet:** Hertz contact (a plate pressing a sphere) needs a scene cc-cut cannot make.")
+    out.append("- **Hertz contact** (a plate pressing a sphere, a scene cc-cut cannot make) has its own page: "
+               "benchmarks/hertz_contact.md (`bench/hertz_contact_report.py`).")
     return out
 
 
