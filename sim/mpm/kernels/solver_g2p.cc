@@ -6,9 +6,9 @@
 #include <limits>
 #include <type_traits>
 
-#include "sim/mpm/physics/viscoelasticity.h"
 #include "sim/mpm/kernels/solver_internals.h"
 #include "sim/mpm/kernels/transfer_stencil.h"
+#include "sim/mpm/physics/viscoelasticity.h"
 
 namespace culinarycut::mpm {
 namespace {

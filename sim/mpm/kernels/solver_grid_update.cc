@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/mpm/kernels/solver_internals.h"
 #include "sim/mpm/physics/edge_resistance.h"
 #include "sim/mpm/physics/grid_contact.h"
-#include "sim/mpm/kernels/solver_internals.h"
 
 namespace culinarycut::mpm {
 namespace {

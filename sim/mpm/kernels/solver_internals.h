@@ -12,11 +12,11 @@
 
 #include <Eigen/Core>
 
-#include "sim/mpm/physics/contact_materials.h"
 #include "sim/mpm/kernels/node_momentum.h"
 #include "sim/mpm/kernels/particle_blocks.h"
-#include "sim/mpm/solver.h"
 #include "sim/mpm/kernels/substep_totals.h"
+#include "sim/mpm/physics/contact_materials.h"
+#include "sim/mpm/solver.h"
 
 namespace culinarycut::mpm {
 

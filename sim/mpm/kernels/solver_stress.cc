@@ -5,11 +5,11 @@
 #include <cmath>
 #include <type_traits>
 
-#include "sim/mpm/physics/constitutive.h"
-#include "sim/mpm/physics/viscoelasticity.h"
 #include "sim/mpm/kernels/polar_batch.h"
 #include "sim/mpm/kernels/solver_internals.h"
 #include "sim/mpm/kernels/stress_batch.h"
+#include "sim/mpm/physics/constitutive.h"
+#include "sim/mpm/physics/viscoelasticity.h"
 
 namespace culinarycut::mpm {
 namespace {
