@@ -21,7 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
-from physics_validation import run  # bench/, this script's folder
+from physics_cases import SCALE, scene  # bench/, this script's folder
+from physics_validation import run
 from step_latency import machine_info
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -29,24 +30,9 @@ RESULTS_JSON = ROOT / "docs" / "benchmarks" / "rate_sweep.json"
 PAGE = ROOT / "docs" / "benchmarks" / "rate_sweep.md"
 PLOT = ROOT / "docs" / "images" / "rate_sweep.png"
 SPEEDS_M_S = (0.05, 0.5, 2.0, 10.0)
-SCALE = 0.6
 # The branches compared: none (today's presets), and a branch as stiff as the base in shear relaxing over
 # 0.1 s, slower than a 10 m/s cut (2 ms in the food) and faster than a 0.05 m/s one (0.4 s).
 BRANCHES = {"elastic": {}, "maxwell 1.0 x mu, 0.1 s": {"maxwell_modulus_ratio": 1.0, "maxwell_relaxation_time_s": 0.1}}
-
-
-def scene(speed_m_s: float, overrides: dict) -> dict:
-    obj = {"food": "cucumber", "scale": SCALE, "pose": {"position": [0.5, 0.0]}}
-    if overrides:
-        obj["material_overrides"] = overrides
-    return {"description": f"rate sweep: cucumber at {speed_m_s:g} m/s",
-            "scene": {"effects": {"mpm": True, "plasticity": True, "damage": True, "friction": True,
-                                  "force_sensing": True},
-                      "objects": [obj], "quality": "standard", "seed": 0},
-            "solver": {"threads": 1},
-            "knife": {"cut_fraction": 0.5, "start_above_top_m": 0.003, "end_below_bottom_m": 0.001,
-                      "descent_speed_m_s": speed_m_s, "lift_speed_m_s": 1.0, "settle_s": 0.02,
-                      "force_window_s": 0.005}}
 
 
 def summarise(r: dict) -> dict:
@@ -74,7 +60,8 @@ def main() -> int:
     with tempfile.TemporaryDirectory() as tmp:
         for i, (branch, speed) in enumerate(todo, 1):
             print(f"[{i}/{len(todo)}] {branch} at {speed:g} m/s ...", flush=True)
-            result = summarise(run(args.cc_cut, scene(speed, BRANCHES[branch]), Path(tmp)))
+            result = summarise(run(args.cc_cut, scene(overrides=BRANCHES[branch], speed_m_s=speed),
+                                             Path(tmp)))
             runs.setdefault(branch, {})[f"{speed:g}"] = result
             RESULTS_JSON.write_text(json.dumps(stored, indent=1))  # kept as it comes: a killed sweep resumes
     render(stored)
