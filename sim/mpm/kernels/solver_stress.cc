@@ -70,11 +70,9 @@ double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context, std::s
     Real branch[6];
     for (int k = 0; k < 6; ++k) branch[k] = p.maxwell_stress[k][q];
     const Real intact = Real(1) - p.damage[q];
-    const int rows[6] = {0, 1, 2, 0, 1, 2};
-    const int cols[6] = {0, 1, 2, 1, 2, 0};
     for (int k = 0; k < 6; ++k) {
-      (*tau)(rows[k], cols[k]) += intact * branch[k];
-      if (k >= 3) (*tau)(cols[k], rows[k]) += intact * branch[k];
+      (*tau)(kSymmetricRow[k], kSymmetricColumn[k]) += intact * branch[k];
+      if (k >= kXY) (*tau)(kSymmetricColumn[k], kSymmetricRow[k]) += intact * branch[k];
     }
     return intact * MaxwellEnergyDensity(branch, mu_1);
   };

@@ -16,6 +16,9 @@ namespace culinarycut::mpm {
 
 // Components of a symmetric 3x3 tensor, in this order.
 enum SymmetricComponent { kXX = 0, kYY = 1, kZZ = 2, kXY = 3, kYZ = 4, kZX = 5 };
+// The row and column of each component (its transpose is the same value).
+inline constexpr int kSymmetricRow[6] = {0, 1, 2, 0, 1, 2};
+inline constexpr int kSymmetricColumn[6] = {0, 1, 2, 1, 2, 0};
 
 // How much of the branch's stress survives a substep, exp(-dt / tau), and the weight of the strain
 // rate over it, (1 - exp(-dt / tau)) tau / dt (-> 1 as dt / tau -> 0). tau <= 0: no branch.
@@ -56,10 +59,11 @@ inline void UpdateMaxwellStress(const Real (&L)[9], Real dt_s, Real shear_modulu
   };
   const Real decay = Real(step.decay);
   const Real drive = Real(2) * shear_modulus_pa * dt_s * Real(step.rate_weight);
-  const int rows[6] = {0, 1, 2, 0, 1, 2};
-  const int cols[6] = {0, 1, 2, 1, 2, 0};
   Real next[6];
-  for (int k = 0; k < 6; ++k) next[k] = decay * rotated(rows[k], cols[k]) + drive * D[rows[k]][cols[k]];
+  for (int k = 0; k < 6; ++k) {
+    const int r = kSymmetricRow[k], c = kSymmetricColumn[k];
+    next[k] = decay * rotated(r, c) + drive * D[r][c];
+  }
   for (int k = 0; k < 6; ++k) s[k] = next[k];
 }
 
