@@ -96,7 +96,8 @@ void EndFoodStep(const Model& model, const KnifeWrench& wrench_sum, State* state
 // Stage "task evaluation" (scenes with a task): ManiSkill's sparse reward, 1 while the task is done; success ends the
 // episode (terminated).
 void EvaluateStep(const Model& model, const State& state, StepResult* result) {
-  result->task_score = EvaluateTask(*model.task, *model.food, MeasurePieces(*model.food, *state.food));
+  result->task_score = EvaluateTask(*model.task, *model.food, MeasurePieces(*model.food, *state.food),
+                                    state.food->solver->particles());
   result->success = result->task_score->success;
   result->reward = result->success ? 1.0 : 0.0;
   result->terminated = result->success;

@@ -1,10 +1,14 @@
 #include "sim/world/task_model.h"
 
+#include <array>
+#include <optional>
 #include <set>
 #include <utility>
 
 #include "sim/task/instruction_generator.h"
+#include "sim/task/cut_plane_fit.h"
 #include "sim/task/instruction_parser.h"
+#include "sim/mpm/cut_record.h"
 #include "sim/world/model.h"
 
 namespace culinarycut {
@@ -36,6 +40,53 @@ task::CutSpec SpecFromFields(const TaskConfig& config, const FoodModel& food) {
   partial.target_object = config.target_object.empty() ? OnlyFood(food) : config.target_object;
   if (!config.reference.empty()) partial.reference = task::DirectionalReferenceFromName(config.reference);
   return task::ResolveDefaults(partial);
+}
+
+// The plane of every cut recorded in each object with at least two pieces (objects without are
+// skipped: nothing there was parted), from where its particles were sampled (material coordinates,
+// like the pieces' bounds): for cut k, the particles the edge passed on either side of the blade.
+std::vector<std::vector<task::FittedPlane>> RecordedCutPlanes(const mpm::Particles<float>& particles,
+                                                              const std::vector<bool>& parted_object) {
+  using Sides = std::array<std::vector<Eigen::Vector3d>, 2>;  // negative, positive
+  std::vector<std::array<Sides, mpm::kMaxRecordedCuts>> sides_of(parted_object.size());
+  for (std::size_t q = 0; q < particles.size(); ++q) {
+    const std::uint32_t record = particles.cut_sides[q];
+    const std::uint16_t object = particles.object[q];
+    if (record == 0 || object >= parted_object.size() || !parted_object[object]) continue;
+    const Eigen::Vector3d rest_m(particles.rest_position[0][q], particles.rest_position[1][q],
+                                 particles.rest_position[2][q]);
+    for (int cut = 0; cut < mpm::kMaxRecordedCuts; ++cut) {
+      if (!(record & mpm::PassedBit(cut))) continue;
+      sides_of[object][cut][(record & mpm::PositiveSideBit(cut)) ? 1 : 0].push_back(rest_m);
+    }
+  }
+  std::vector<std::vector<task::FittedPlane>> planes(parted_object.size());
+  for (std::size_t object = 0; object < parted_object.size(); ++object) {
+    for (const Sides& sides : sides_of[object]) {
+      if (const std::optional<task::FittedPlane> plane = task::FitCutPlane(sides[1], sides[0])) {
+        planes[object].push_back(*plane);
+      }
+    }
+  }
+  return planes;
+}
+
+// Gives `cut` (a position between two pieces) the normal of the recorded plane that crosses the long
+// axis nearest to it, if one does within `reach` (a fraction of the length); else it stays
+// position-only.
+void AttachCutPlane(const task::LongAxis& axis, const std::vector<task::FittedPlane>& planes, double reach,
+                    task::MeasuredCut* cut) {
+  const std::optional<double> at = task::CutFractionAlongAxis(axis, *cut);
+  double nearest = reach;
+  for (const task::FittedPlane& plane : planes) {
+    task::MeasuredCut candidate = *cut;
+    candidate.plane_point_m = plane.point_m;
+    candidate.plane_normal = plane.normal;
+    const std::optional<double> crossing = task::CutFractionAlongAxis(axis, candidate);
+    if (!at || !crossing || !(std::abs(*crossing - *at) <= nearest)) continue;
+    nearest = std::abs(*crossing - *at);
+    cut->plane_normal = plane.normal;
+  }
 }
 
 }  // namespace
@@ -78,7 +129,8 @@ TaskModel CompileTask(const TaskConfig& config, const FoodModel& food, std::uint
   return model;
 }
 
-task::TaskScore EvaluateTask(const TaskModel& task, const FoodModel& food, const std::vector<mpm::Piece>& pieces) {
+task::TaskScore EvaluateTask(const TaskModel& task, const FoodModel& food, const std::vector<mpm::Piece>& pieces,
+                             const mpm::Particles<float>& particles) {
   std::vector<std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>> bounds_of_object(food.objects.size());
   for (const mpm::Piece& piece : pieces) {
     const double share = static_cast<double>(piece.particle_count) / std::max<std::size_t>(1, task.object_particles[piece.object]);
@@ -87,9 +139,14 @@ task::TaskScore EvaluateTask(const TaskModel& task, const FoodModel& food, const
     // passed, however far the pieces slid or rolled since.
     bounds_of_object[piece.object].emplace_back(piece.rest_bounds_m.min(), piece.rest_bounds_m.max());
   }
+  std::vector<bool> parted_object(food.objects.size());
+  for (std::size_t i = 0; i < food.objects.size(); ++i) parted_object[i] = bounds_of_object[i].size() >= 2;
+  const std::vector<std::vector<task::FittedPlane>> planes = RecordedCutPlanes(particles, parted_object);
   std::vector<task::MeasuredCut> cuts;
   for (std::size_t i = 0; i < food.objects.size(); ++i) {
+    const task::LongAxis axis = task::LongAxisOf(food.objects[i]);
     for (task::MeasuredCut& cut : task::CutsFromPieceBounds(food.objects[i], bounds_of_object[i])) {
+      AttachCutPlane(axis, planes[i], task.tolerances.position_fraction, &cut);
       cuts.push_back(std::move(cut));
     }
   }

@@ -1,7 +1,8 @@
 // The scene's cutting task (paper, "Task Definition"), compiled with the model, and its score
-// against the food's current pieces (paper, "Success Criteria"). Each object's pieces give
-// position-only cuts midway between neighbouring pieces along its long axis; those are scored
-// against the required cuts on the target object.
+// against the food's current pieces (paper, "Success Criteria"). Each object's pieces give cuts
+// midway between neighbouring pieces along its long axis; each takes the orientation of the cut
+// surface the blade left there (fitted to the material it labelled either side, sim/task/cut_plane_fit.h),
+// and both are scored against the required cuts on the target object.
 #pragma once
 
 #include <cstdint>
@@ -32,7 +33,8 @@ struct TaskModel {
 // cannot be parsed, an invalid spec, or a target food that is not in the scene (or is ambiguous).
 TaskModel CompileTask(const TaskConfig& config, const FoodModel& food, std::uint64_t seed);
 
-// The task's score now, from the pieces of the last topology update.
-task::TaskScore EvaluateTask(const TaskModel& task, const FoodModel& food, const std::vector<mpm::Piece>& pieces);
+// The task's score now, from the pieces of the last topology update and the particles' cut records.
+task::TaskScore EvaluateTask(const TaskModel& task, const FoodModel& food, const std::vector<mpm::Piece>& pieces,
+                             const mpm::Particles<float>& particles);
 
 }  // namespace culinarycut

@@ -107,6 +107,8 @@ def test_a_small_food_refines_the_preset_grid_and_is_cut_in_every_style(client):
         scene = {**cutting_scene({"food": "strawberry"}), "task": {"instruction": f"{style} cut the strawberry at the middle"}}
         trace = run_oracle_episode(client, scene, seed=1)
         assert trace["success"] and trace["pieces"] == 2, (style, trace["score"])
+        cut = trace["score"]["required"][0]
+        assert cut["angle_measured"] and cut["angle_ok"], (style, cut)  # the cut surface's plane was scored
 
 
 def test_an_accuracy_target_gets_the_cheapest_measured_setting_and_says_what_to_expect(client):
