@@ -6,6 +6,7 @@ detection of a truncated file; the same seed gives the same episode bytes, howev
 the writer's HDF5 handles."""
 from __future__ import annotations
 
+import dataclasses
 import json
 import shutil
 from pathlib import Path
@@ -56,8 +57,14 @@ def test_every_job_kept_with_its_variation(dataset):
     assert sum(r["key"].startswith("demo-") for r in rows) == 1
     meta, steps = read_episode(dataset["root"] / rows[0]["file"])
     assert len(meta["instructions"]) >= 5 and len(set(meta["instructions"])) == len(meta["instructions"])
-    assert set(meta["variation"]) == {"position_m", "yaw_deg", "scale", "food", "cut_height_m", "cut_speed_m_s"}
+    assert set(meta["variation"]) == {"position_m", "yaw_deg", "scale", "food", "cut_height_m", "cut_speed_m_s",
+                                      "scene"}
     assert meta["resolved_scene"]["objects"][0]["scale"] == pytest.approx(meta["variation"]["scale"])
+    # Both of the paper's scenes by default, each episode on the one it drew (rows and files agree).
+    assert {r["scene"] for r in rows} == {"table", "kitchen"}
+    for row in rows:
+        meta = read_episode(dataset["root"] / row["file"])[0]
+        assert meta["resolved_scene"].get("scene", "table") == meta["variation"]["scene"] == row["scene"]
     assert steps["obs/front_rgb"].shape[1:] == (SIZE, SIZE, 3)
     assert steps["knife_contact"].any(), "the knife never touched the food"
     assert np.abs(steps["obs/wrist_wrench"][:, :3]).max() > 0.1  # N: force was measured during the cut
@@ -109,6 +116,7 @@ def test_robomimic_hdf5_read_back(dataset):
             np.testing.assert_array_equal(demo["next_obs/ee_states"][:-1], demo["obs/ee_states"][1:])
             assert len(json.loads(demo.attrs["instructions"])) >= 5
             assert json.loads(demo.attrs["model_file"])["objects"]
+            assert demo.attrs["scene"] in ("table", "kitchen") and demo.attrs["topology"]
         masks = {k: sorted(v.decode() for v in file[f"mask/{k}"][()]) for k in ("train", "valid")}
         assert sorted(masks["train"] + masks["valid"]) == demos and not set(masks["train"]) & set(masks["valid"])
 
@@ -241,6 +249,7 @@ def test_lerobot_v21_read_back(dataset):
     for episode, (meta, steps) in zip(episodes, recorded):
         n, chunk = episode["length"], episode["episode_index"] // info["chunks_size"]
         assert episode["seed"] == meta["seed"] and episode["tasks"] == list(meta["instructions"])
+        assert episode["scene"] == meta["variation"]["scene"] and episode["topology"] is True
         path = root / info["data_path"].format(episode_chunk=chunk, episode_index=episode["episode_index"])
         columns, types, metadata, num_rows = _duckdb_columns(path)
         assert num_rows == n == len(steps["actions"])
@@ -324,6 +333,7 @@ def test_rdt_hdf5_and_statistics(dataset):
             assert decoded.shape == recorded.shape
             assert np.abs(decoded.astype(int) - recorded.astype(int)).mean() < 6.0  # JPEG at quality 95
             assert file.attrs["control_frequency_hz"] == 20.0
+            assert file.attrs["scene"] in ("table", "kitchen") and file.attrs["topology"]
         instructions = json.loads((folder / "expanded_instruction_gpt-4-turbo.json").read_text())
         assert instructions["instruction"] and len(instructions["expanded_instruction"]) >= 5
     statistics = json.loads(Path(dataset["export"]["statistics"]).read_text())
@@ -378,6 +388,7 @@ def test_dataset_card(dataset, tmp_path):
     card = write_card(dataset["root"], tmp_path).read_text()
     assert "3 kept trajectories of 3 generated (100 % pass the success filter)" in card
     assert "| planner/normal-ratio-0.3-cucumber | 1 | 1 |" in card
+    assert "## Scenes" in card and "| kitchen |" in card and "| table |" in card
     for picture in ("card_frames.png", "card_trajectories.png"):
         image = cv2.imread(str(tmp_path / picture))
         assert image is not None and image.shape[0] > 200, picture
@@ -393,3 +404,25 @@ def test_a_failed_episode_is_rejected_with_its_reason(dataset, tmp_path):
     assert row["reason"].startswith("truncated"), row["reason"]
     assert not (tmp_path / "episodes").exists()
     assert json.loads((tmp_path / "rows" / (row["key"].replace("/", "__") + ".json")).read_text()) == row
+
+
+def test_scenes_and_topology_are_dataset_options(tmp_path):
+    """`--scenes` narrows the draw (the other draws stay as they were) and `--topology off` makes the topology
+    ablation's data; a config without them (written before they existed) reads back as the table with topology."""
+    both = DatasetConfig(name="t", seed=3, tasks=(RATIO_SPEC, MIDDLE_SPEC), episodes_per_task=4)
+    table = dataclasses.replace(both, scenes=("table",), topology=False)
+    for drawn, narrowed in zip(make_jobs(both), make_jobs(table)):
+        assert {k: v for k, v in drawn.variation.items() if k != "scene"} == \
+               {k: v for k, v in narrowed.variation.items() if k != "scene"}
+        assert narrowed.scene["scene"] == "table" and narrowed.scene["effects"]["topology"] is False
+        assert drawn.scene["scene"] == drawn.variation["scene"] and drawn.scene["effects"]["topology"] is True
+    assert {job.variation["scene"] for job in make_jobs(both)} == {"table", "kitchen"}
+    old = json.loads(both.to_json())
+    del old["scenes"], old["topology"]
+    assert DatasetConfig.from_json(json.dumps(old)).scenes == ("table",)
+    with pytest.raises(ValueError, match="moon; choose from table, kitchen"):
+        dataclasses.replace(both, scenes=("moon",))
+    with GenerationStore(tmp_path) as store:  # resuming with other options names what differs
+        store.claim_config(both.to_json(), {})
+        with pytest.raises(RuntimeError, match=r"differs in scenes, topology\); give the same options"):
+            store.claim_config(table.to_json(), {})

@@ -78,11 +78,11 @@ def test_a_fault_mid_episode_is_retried_from_the_seed(address, tmp_path):
     assert not (tmp_path / "errors").exists()
 
 
-def _generate(address: str, out, attempts: int = 2) -> subprocess.CompletedProcess:
+def _generate(address: str, out, attempts: int = 2, *extra: str) -> subprocess.CompletedProcess:
     command = [sys.executable, "-m", "culinarycut", "data", "generate", "--out", str(out), "--server", address,
                "--styles", "normal", "--states", "ratio-0.3", "--episodes-per-task", "2", "--image-size", "32",
                "--cameras", "front", "--max-steps", "15", "--attempts", str(attempts), "--retry-backoff", "0.01",
-               "--no-progress"]
+               "--no-progress", *extra]
     return subprocess.run(command, capture_output=True, text=True, timeout=300)
 
 
@@ -116,6 +116,9 @@ def test_a_persistent_fault_leaves_the_job_for_the_next_run(address, tmp_path):
 def test_bad_retry_options_are_refused(address, tmp_path):
     result = _generate(address, tmp_path / "data", attempts=0)
     assert result.returncode == 2 and "--attempts" in result.stderr, result.stderr
+    result = _generate(address, tmp_path / "data", 2, "--scenes", "table,moon")
+    assert result.returncode == 2 and "--scenes: moon; choose from table, kitchen" in result.stderr, result.stderr
+    assert not (tmp_path / "data").exists()  # refused before anything was written
 
 
 def test_progress_moves_with_each_episode_not_each_shard(address, tmp_path, capfd, monkeypatch):

@@ -34,6 +34,15 @@ def _states(text: str) -> list[dict]:
     return states
 
 
+def _scenes(text: str) -> tuple[str, ...]:
+    from culinarycut.datasets.jobs import SCENES
+    scenes = tuple(dict.fromkeys(s.strip() for s in text.split(",") if s.strip()))
+    unknown = sorted(set(scenes) - set(SCENES))
+    if not scenes or unknown:
+        raise ValueError(f"--scenes: {', '.join(unknown) or 'none given'}; choose from {', '.join(SCENES)}")
+    return scenes
+
+
 def config_from_args(args):
     from culinarycut.datasets.jobs import STYLES, DatasetConfig, Randomisation
     styles = STYLES if args.styles == "all" else tuple(s.strip() for s in args.styles.split(","))
@@ -47,7 +56,8 @@ def config_from_args(args):
                          demos=tuple(str(Path(d).resolve()) for d in args.demo or ()), randomisation=randomisation,
                          quality=args.quality, cameras=tuple(args.cameras.split(",")), image_size=args.image_size,
                          max_episode_steps=args.max_steps, paraphrase_endpoint=args.paraphrase_endpoint or "",
-                         paraphrase_model=args.paraphrase_model or "")
+                         paraphrase_model=args.paraphrase_model or "", scenes=_scenes(args.scenes),
+                         topology=args.topology == "on")
 
 
 @contextlib.contextmanager
@@ -157,6 +167,10 @@ def register(sub) -> None:
     gen.add_argument("--randomise-food", action="append", metavar="FOOD",
                      help="draw each episode's object type from these foods (repeatable; default: the task's)")
     gen.add_argument("--quality", default="draft", help="MPM preset (draft, standard, ...)")
+    gen.add_argument("--scenes", default="table,kitchen",
+                     help="comma list of table, kitchen: each episode draws one (default both, as the paper collects)")
+    gen.add_argument("--topology", choices=("on", "off"), default="on",
+                     help="track pieces while cutting (off: data for the topology ablation; default on)")
     gen.add_argument("--cameras", default="front,left,right", help="comma list of camera names")
     gen.add_argument("--image-size", type=int, default=224, help="square camera images, pixels")
     gen.add_argument("--max-steps", type=int, default=600, help="control steps per episode at most")

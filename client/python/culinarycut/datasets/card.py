@@ -85,6 +85,13 @@ def write_card(root: Path, out: Path | None = None) -> Path:
              f"Written {time.strftime('%Y-%m-%d', time.gmtime())} by `culinarycut data card`.", "",
              "## Tasks", "", "| task (source/style-state-food) | generated | kept |", "|---|---|---|"]
     lines += [f"| {task} | {n} | {k} |" for task, (n, k) in sorted(per_task.items())]
+    per_scene = collections.defaultdict(lambda: [0, 0])
+    for row in rows:
+        per_scene[row.get("scene") or "table"][0] += 1  # rows written before scenes were drawn: the table
+        per_scene[row.get("scene") or "table"][1] += row["kept"]
+    lines += ["", "## Scenes", "", f"Topology {'on' if config.get('topology', True) else 'off'} while cutting.", "",
+              "| scene | generated | kept |", "|---|---|---|"]
+    lines += [f"| {scene} | {n} | {k} |" for scene, (n, k) in sorted(per_scene.items())]
     lines += ["", "## Success filter", ""]
     lines += [f"- {reason}: {count}" for reason, count in reasons.most_common()] or ["- every episode succeeded"]
     pending = sorted((root / "errors").glob("*.json")) if (root / "errors").is_dir() else []

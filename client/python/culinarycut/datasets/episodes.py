@@ -27,6 +27,13 @@ def iter_episodes(root: Path) -> Iterator[tuple[int, dict, dict[str, np.ndarray]
         yield index, meta, steps
 
 
+def scene_conditions(meta: dict) -> dict:
+    """Where an episode was recorded: its scene (table or kitchen) and whether topology was on, as every
+    export carries them (episodes recorded before scenes were drawn were on the table)."""
+    effects = meta.get("resolved_scene", {}).get("effects", {})
+    return {"scene": meta.get("variation", {}).get("scene", "table"), "topology": bool(effects.get("topology", True))}
+
+
 def camera_names(steps: dict) -> list[str]:
     return sorted(name[len("obs/"):-len("_rgb")] for name in steps if name.startswith("obs/") and name.endswith("_rgb"))
 

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from culinarycut.datasets.episodes import (PHASES, action_names, camera_names, iter_episodes, phase_codes, proprio,
-                                           proprio_names)
+                                           proprio_names, scene_conditions)
 
 CODEBASE_VERSION = "v2.1"
 CHUNKS_SIZE = 1000
@@ -149,7 +149,8 @@ def export_lerobot(root: Path, out: Path, robot_type: str = "panda") -> Path:
             info_features = _features(columns, steps, meta["control_mode"], size, fps)
         length = len(columns["index"])
         episodes.append({"episode_index": index, "tasks": list(meta["instructions"]), "length": length,
-                         "cut_spec": meta["cut_spec"], "seed": meta["seed"], "source": meta["source"]})
+                         "cut_spec": meta["cut_spec"], "seed": meta["seed"], "source": meta["source"],
+                         **scene_conditions(meta)})
         stats.append({"episode_index": index, "stats": episode_stats})
         total_frames += length
     if not episodes:

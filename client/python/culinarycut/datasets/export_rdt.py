@@ -16,7 +16,7 @@ import cv2
 import h5py
 import numpy as np
 
-from culinarycut.datasets.episodes import camera_names, iter_episodes, phase_codes
+from culinarycut.datasets.episodes import camera_names, iter_episodes, phase_codes, scene_conditions
 
 INSTRUCTION_FILE = "expanded_instruction_gpt-4-turbo.json"
 UPSTREAM_CAMERA_NAMES = {"front": "cam_high", "wrist": "cam_right_wrist"}
@@ -57,6 +57,9 @@ def export_rdt(root: Path, out: Path) -> Path:
             file.attrs["control_frequency_hz"] = meta["resolved_scene"]["robot"]["control_frequency_hz"]
             file.attrs["cut_spec"] = json.dumps(meta["cut_spec"], sort_keys=True)
             file.attrs["seed"] = meta["seed"]
+            conditions = scene_conditions(meta)
+            file.attrs["scene"] = conditions["scene"]
+            file.attrs["topology"] = conditions["topology"]
         instructions = meta["instructions"]
         (folder / INSTRUCTION_FILE).write_text(json.dumps(
             {"instruction": instructions[0], "simplified_instruction": instructions[1:2],

@@ -9,7 +9,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from culinarycut.datasets.episodes import PHASES, camera_names, iter_episodes, phase_codes
+from culinarycut.datasets.episodes import PHASES, camera_names, iter_episodes, phase_codes, scene_conditions
 
 
 def _obs(steps: dict) -> dict[str, np.ndarray]:
@@ -50,6 +50,9 @@ def export_robomimic(root: Path, out: Path, valid_fraction: float = 0.1) -> Path
             demo.attrs["cut_spec"] = json.dumps(meta["cut_spec"], sort_keys=True)
             demo.attrs["source"] = meta["source"]
             demo.attrs["key"] = meta["key"]
+            conditions = scene_conditions(meta)
+            demo.attrs["scene"] = conditions["scene"]
+            demo.attrs["topology"] = conditions["topology"]
             names.append(name)
             total += len(steps["actions"])
             env_args = env_args or {"env_name": "CulinaryCut", "type": 4,  # none of robomimic's EnvTypes (1-3)

@@ -94,7 +94,7 @@ def run_job(job: EpisodeJob, config: DatasetConfig, root: Path, server: str,
     outlast the retries: the job moves to another server, and leaves no row."""
     started = time.perf_counter()
     row = {"key": job.key, "seed": job.seed, "source": job.source, "kept": 0, "steps": 0, "file": None,
-           "server": server}
+           "server": server, "scene": job.variation["scene"]}
     try:
         episode = _record_with_retries(job, config, server, retry)
     except TransientJobError:

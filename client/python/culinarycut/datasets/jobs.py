@@ -17,6 +17,7 @@ import numpy as np
 from culinarycut.bench.episode_scene import BOARD_CENTER_XY_M, CUTTING_EFFECTS, _yaw_quaternion
 
 STYLES = ("normal", "bias", "guillotine", "saw")
+SCENES = ("table", "kitchen")  # the paper collects in both: a standard table and a realistic kitchen
 RATIOS = (0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9)
 SPLITS = (3, 4, 5)
 
@@ -53,6 +54,13 @@ class DatasetConfig:
     # off when empty. Only paraphrases the server parses back to the same cut are added.
     paraphrase_endpoint: str = ""
     paraphrase_model: str = ""
+    scenes: tuple[str, ...] = SCENES          # each episode draws one; both by default, as the paper collects
+    topology: bool = True                     # pieces tracked while cutting (off: the topology ablation's data)
+
+    def __post_init__(self):
+        unknown = sorted(set(self.scenes) - set(SCENES))
+        if not self.scenes or unknown:
+            raise ValueError(f"scenes: {', '.join(unknown) or 'none given'}; choose from {', '.join(SCENES)}")
 
     def to_json(self) -> str:
         return json.dumps(dataclasses.asdict(self), sort_keys=True)
@@ -62,7 +70,9 @@ class DatasetConfig:
         values = json.loads(text)
         values["randomisation"] = Randomisation(**{k: tuple(v) if isinstance(v, list) else v
                                                    for k, v in values["randomisation"].items()})
-        for key in ("tasks", "demos", "cameras"):
+        # Datasets written before scenes were drawn were all on the table, with topology on.
+        values.setdefault("scenes", ["table"])
+        for key in ("tasks", "demos", "cameras", "scenes"):
             values[key] = tuple(values[key])
         return DatasetConfig(**values)
 
@@ -114,7 +124,9 @@ def draw_variation(config: DatasetConfig, spec: dict, seed: int) -> dict[str, An
             "scale": float(rng.uniform(*r.scale)),
             "food": food,
             "cut_height_m": float(rng.uniform(*r.cut_height_m)),
-            "cut_speed_m_s": float(rng.uniform(*speeds))}
+            "cut_speed_m_s": float(rng.uniform(*speeds)),
+            # Drawn last, so every earlier draw is what it was before scenes were drawn.
+            "scene": str(rng.choice(config.scenes))}
 
 
 def job_scene(config: DatasetConfig, variation: dict, seed: int) -> dict:
@@ -124,8 +136,8 @@ def job_scene(config: DatasetConfig, variation: dict, seed: int) -> dict:
     if config.material_overrides:
         food["material_overrides"] = dict(config.material_overrides)
     size = config.image_size
-    return {"seed": str(seed), "quality": config.quality, "effects": {**CUTTING_EFFECTS, "topology": True},
-            "objects": [food], "max_episode_steps": config.max_episode_steps,
+    return {"seed": str(seed), "quality": config.quality, "effects": {**CUTTING_EFFECTS, "topology": config.topology},
+            "scene": variation["scene"], "objects": [food], "max_episode_steps": config.max_episode_steps,
             "cameras": [{"name": c, "width": size, "height": size, "channels": ["rgb"]} for c in config.cameras]}
 
 

@@ -33,7 +33,9 @@ class GenerationStore(DurableDatabase):
         super().__init__(self.root / DATABASE_NAME)
         self.db.execute("CREATE TABLE IF NOT EXISTS jobs (key TEXT PRIMARY KEY, seed INTEGER NOT NULL, "
                         "source TEXT NOT NULL, kept INTEGER NOT NULL, reason TEXT NOT NULL, steps INTEGER NOT NULL, "
-                        "file TEXT, server TEXT, wall_s REAL, finished_at REAL)")
+                        "file TEXT, server TEXT, wall_s REAL, finished_at REAL, scene TEXT)")
+        if "scene" not in {row[1] for row in self.db.execute("PRAGMA table_info(jobs)")}:
+            self.db.execute("ALTER TABLE jobs ADD COLUMN scene TEXT")  # stores written before scenes were drawn
         self.db.execute("CREATE TABLE IF NOT EXISTS dataset (key TEXT PRIMARY KEY, value TEXT NOT NULL)")
 
     def metadata(self) -> dict[str, str]:
@@ -43,7 +45,11 @@ class GenerationStore(DurableDatabase):
         """A dataset folder belongs to one config; a different one is refused."""
         stored = self.metadata().get("config")
         if stored is not None and stored != config_json:
-            raise DatasetStoreError(f"{self.root} holds a dataset of another config; use another --out")
+            old, new = json.loads(stored), json.loads(config_json)
+            differ = sorted(k for k in old.keys() | new.keys() if old.get(k) != new.get(k))
+            raise DatasetStoreError(f"{self.root} holds a dataset of another config (it differs in "
+                                    f"{', '.join(differ) or 'its encoding'}); give the same options to resume it, "
+                                    "or use another --out")
         with self.db:
             self.db.execute("BEGIN")
             self.db.executemany("INSERT OR REPLACE INTO dataset (key, value) VALUES (?, ?)",
@@ -55,7 +61,8 @@ class GenerationStore(DurableDatabase):
     def record(self, row: dict[str, Any]) -> bool:
         """One finished job, atomically; False when its key was already there."""
         row = {**row, "finished_at": row.get("finished_at", time.time())}
-        names = ("key", "seed", "source", "kept", "reason", "steps", "file", "server", "wall_s", "finished_at")
+        names = ("key", "seed", "source", "kept", "reason", "steps", "file", "server", "wall_s", "finished_at",
+                 "scene")
         with self.db:
             self.db.execute("BEGIN IMMEDIATE")
             cursor = self.db.execute(f"INSERT OR IGNORE INTO jobs ({', '.join(names)}) VALUES "
