@@ -29,7 +29,8 @@ SimulatorService::SimulatorService(RobotDescription robot, SessionManager* sessi
       max_handler_threads_(max_handler_threads),
       safety_model_(std::move(safety_model)) {}
 
-double SimulatorService::ObserveToWire(Session& session, v1::FrameStamp* stamp, v1::Observation* wire) {
+double SimulatorService::ObserveToWire(Session& session, v1::FrameStamp* stamp, v1::Observation* wire,
+                                       const safety::LimiterReport* step_report) {
   render::CameraRenderer* renderer = session.model->cameras.empty() ? nullptr : &renderer_->Get();
   const Observation observation = culinarycut::Observe(*session.model, session.state, renderer);
   StageTimes render_time;
@@ -37,7 +38,7 @@ double SimulatorService::ObserveToWire(Session& session, v1::FrameStamp* stamp, 
   session.timers.Add(render_time);
   StampToWire(observation.frame_id, observation.sim_time_s, stamp);
   ObservationToWire(*session.model, observation, wire);
-  if (telemetry_) telemetry_->Publish(TelemetryToWire(session.id, observation));
+  if (telemetry_) telemetry_->Publish(TelemetryToWire(session.id, observation, step_report));
   return observation.render_wall_time_ms;
 }
 
@@ -159,7 +160,8 @@ grpc::Status SimulatorService::Step(grpc::ServerContext* context, const v1::Step
     }
     if (result.cancelled) return NotApplied(*context);
     session->timers.Add(result.timings);
-    const double render_ms = ObserveToWire(*session, response->mutable_stamp(), response->mutable_observation());
+    const double render_ms = ObserveToWire(*session, response->mutable_stamp(), response->mutable_observation(),
+                                           result.safety ? &*result.safety : nullptr);
     StepResultToWire(result, render_ms, response);
     return grpc::Status::OK;
   });

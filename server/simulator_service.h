@@ -11,6 +11,7 @@
 #include "server/shared_renderer.h"
 #include "server/snapshot_seal.h"
 #include "server/telemetry_publisher.h"
+#include "sim/safety/limiter.h"
 #include "sim/robot/robot_description.h"
 
 namespace culinarycut::server {
@@ -37,7 +38,9 @@ class SimulatorService final : public v1::Simulator::Service {
   // Observes the session's current state (engine Observe, cameras rendered), writes the stamp and
   // the observation, publishes telemetry and adds the render time to the session's timers.
   // Throws render::RenderError when the renderer fails mid-episode; returns the render time (ms).
-  double ObserveToWire(Session& session, v1::FrameStamp* stamp, v1::Observation* observation);
+  // Observes the session into `observation` and publishes its telemetry frame (with the Step's limiter report).
+  double ObserveToWire(Session& session, v1::FrameStamp* stamp, v1::Observation* observation,
+                       const safety::LimiterReport* step_report = nullptr);
 
   const RobotDescription robot_;
   SessionManager* sessions_;

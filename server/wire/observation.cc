@@ -52,8 +52,6 @@ void SafetyStepToWire(const safety::LimiterReport& report, v1::SafetyStepInfo* w
   wire->set_target_scale(report.target_scale);
 }
 
-// A finite value, or 0 for the engine's NaN ("not assessed").
-double FiniteOrZero(double value) { return std::isfinite(value) ? value : 0.0; }
 
 }  // namespace
 
@@ -135,7 +133,8 @@ void SessionStatsToWire(const Model& model, const State& state, const StageTotal
   }
 }
 
-v1::TelemetryFrame TelemetryToWire(const std::string& session_id, const Observation& observation) {
+v1::TelemetryFrame TelemetryToWire(const std::string& session_id, const Observation& observation,
+                                   const safety::LimiterReport* step_report) {
   v1::TelemetryFrame frame;
   frame.set_session_id(session_id);
   StampToWire(observation.frame_id, observation.sim_time_s, frame.mutable_stamp());
@@ -143,9 +142,17 @@ v1::TelemetryFrame TelemetryToWire(const std::string& session_id, const Observat
   AssignVector(observation.robot.qvel_rad_s, frame.mutable_qvel());
   AssignVector(observation.robot.tcp_pose, frame.mutable_tcp_pose());
   AssignVector(observation.robot.wrist_wrench, frame.mutable_wrist_wrench());
-  if (observation.safety) {
-    frame.set_v_safe_m_s(FiniteOrZero(observation.safety->v_safe_m_s));
-    frame.set_predicted_force_n(FiniteOrZero(observation.safety->predicted_force_n));
+  // NaN in the engine means no food was near the edge: not assessed.
+  if (observation.safety && std::isfinite(observation.safety->v_safe_m_s)) {
+    frame.set_assessed(true);
+    frame.set_v_safe_m_s(observation.safety->v_safe_m_s);
+    frame.set_predicted_force_n(observation.safety->predicted_force_n);
+  }
+  if (step_report) {
+    frame.set_limiter_acted(step_report->acted);
+    for (int i = 0; i < safety::kGuardCount; ++i) {
+      if (step_report->guard_counts[i] > 0) frame.add_bound_guards(safety::kGuardNames[i]);
+    }
   }
   return frame;
 }

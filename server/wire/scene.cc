@@ -1,5 +1,7 @@
 #include "server/wire/scene.h"
 
+#include <limits>
+
 #include "server/wire/camera.h"
 #include "server/wire/values.h"
 #include "sim/world/measured_accuracy.h"
@@ -92,7 +94,16 @@ void ExpectedAccuracyToWire(const MpmResolution& resolution, v1::ExpectedAccurac
   wire->set_study(AccuracyStudyName());
   const std::optional<MeasuredAccuracy> measured = FindMeasuredAccuracy(resolution);
   wire->set_measured(measured.has_value());
-  if (!measured) return;
+  if (!measured) {
+    // Not a zero error at zero cost: no number at all (NaN, "NaN" in JSON), which no comparison picks.
+    const double unmeasured = std::numeric_limits<double>::quiet_NaN();
+    for (auto set : {&v1::ExpectedAccuracy::set_force_error, &v1::ExpectedAccuracy::set_mean_force_error,
+                     &v1::ExpectedAccuracy::set_force_curve_error, &v1::ExpectedAccuracy::set_cut_position_error_mm,
+                     &v1::ExpectedAccuracy::set_relative_cost}) {
+      (wire->*set)(unmeasured);
+    }
+    return;
+  }
   wire->set_force_error(measured->peak_force_error);
   wire->set_mean_force_error(measured->mean_force_error);
   wire->set_force_curve_error(measured->force_curve_error);
@@ -212,6 +223,8 @@ v1::SceneSpec SceneToWire(const SceneConfig& config) {
 }
 
 void ResolvedFoodToWire(const FoodModel& food, v1::SceneSpec* wire) {
+  // An accuracy target chose the setting: the resolved quality names it (a preset, or "accuracy_target").
+  if (wire->has_accuracy_target()) wire->set_quality(QualityNameOf(food.resolution));
   MpmResolutionToWire(food.resolution, wire->mutable_mpm());
   ExpectedAccuracyToWire(food.resolution, wire->mutable_expected_accuracy());
   for (int i = 0; i < wire->objects_size() && i < static_cast<int>(food.objects.size()); ++i) {

@@ -32,13 +32,25 @@ std::vector<std::string> QualityPresetNames() {
   return names;
 }
 
+std::string QualityNameOf(const MpmResolution& resolution) {
+  for (const NamedPreset& preset : kPresets) {
+    if (preset.resolution.dx_m == resolution.dx_m && preset.resolution.particles_per_cell == resolution.particles_per_cell &&
+        preset.resolution.cfl == resolution.cfl) {
+      return preset.name;
+    }
+  }
+  return kAccuracyTargetQuality;
+}
+
 MpmResolution ResolveMpmResolution(const std::string& quality, const std::optional<AccuracyTargetConfig>& target,
                                    const MpmResolutionConfig& overrides) {
   const NamedPreset* found = nullptr;
   for (const NamedPreset& preset : kPresets) {
     if (quality == preset.name) found = &preset;
   }
-  if (!found) throw SceneError("scene.quality must be \"draft\", \"standard\" or \"fine\", got \"" + quality + "\"");
+  if (!found && !(quality == kAccuracyTargetQuality && target)) {
+    throw SceneError("scene.quality must be \"draft\", \"standard\" or \"fine\", got \"" + quality + "\"");
+  }
   MpmResolution resolution = target ? CheapestSettingMeeting(*target) : found->resolution;
   std::ostringstream error;
   if (overrides.dx_m) {

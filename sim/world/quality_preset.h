@@ -23,9 +23,16 @@ struct MpmResolution {
 // (docs/accuracy.md); measured_accuracy.h gives each one's expected error and cost.
 std::vector<std::string> QualityPresetNames();
 
+// The `quality` a resolved scene names when an accuracy target chose a setting that is no preset.
+inline constexpr const char* kAccuracyTargetQuality = "accuracy_target";
+
+// The name of the preset whose grid, particles per cell and CFL `resolution` has, or kAccuracyTargetQuality.
+std::string QualityNameOf(const MpmResolution& resolution);
+
 // The preset named `quality`, or with `target` the cheapest measured setting that meets it
-// (measured_accuracy.h), with the explicit values of `overrides` applied. Throws SceneError naming
-// the field for an unknown preset, an unreachable target or an out-of-range value.
+// (measured_accuracy.h), with the explicit values of `overrides` applied. `quality` may be
+// kAccuracyTargetQuality only with a target. Throws SceneError naming the field for an unknown preset,
+// an unreachable target or an out-of-range value.
 MpmResolution ResolveMpmResolution(const std::string& quality, const std::optional<AccuracyTargetConfig>& target,
                                    const MpmResolutionConfig& overrides);
 

@@ -68,7 +68,11 @@ std::optional<std::string> ValidateSceneConfig(const SceneConfig& config) {
   if (config.scene != "table" && config.scene != "kitchen") {
     return "scene.scene must be \"table\" or \"kitchen\", got \"" + config.scene + "\"";
   }
-  if (config.quality != "draft" && config.quality != "standard" && config.quality != "fine") {
+  if (config.quality == "accuracy_target" && !config.accuracy_target) {
+    return "scene.quality \"accuracy_target\" needs scene.accuracy_target (it names the setting a target chose)";
+  }
+  if (config.quality != "draft" && config.quality != "standard" && config.quality != "fine" &&
+      config.quality != "accuracy_target") {
     return "scene.quality must be \"draft\", \"standard\" or \"fine\", got \"" + config.quality + "\"";
   }
   return std::nullopt;

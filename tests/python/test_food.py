@@ -1,6 +1,8 @@
 """The robot, the MPM food and their coupling through the server, at the draft preset."""
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -117,6 +119,9 @@ def test_an_accuracy_target_gets_the_cheapest_measured_setting_and_says_what_to_
     assert list(presets) == ["draft", "standard", "fine"]
     draft, standard = presets["draft"].expected, presets["standard"].expected
     assert draft.measured and standard.measured and not presets["fine"].expected.measured
+    unmeasured = presets["fine"].expected  # no number rather than a zero error at zero cost
+    assert all(math.isnan(getattr(unmeasured, field)) for field in
+               ("force_error", "mean_force_error", "force_curve_error", "cut_position_error_mm", "relative_cost"))
     assert standard.relative_cost == pytest.approx(1.0) and draft.relative_cost < 0.25  # at least 4x cheaper
     assert standard.force_error < draft.force_error and presets["standard"].mpm.cfl == pytest.approx(0.8)
 
@@ -130,6 +135,10 @@ def test_an_accuracy_target_gets_the_cheapest_measured_setting_and_says_what_to_
     assert expected.measured and expected.force_error <= bound < draft.force_error and expected.relative_cost < 1.0
     assert expected.setting == (f"dx {resolved.mpm.dx * 1e3:g} mm, {resolved.mpm.particles_per_cell} ppc, "
                                 f"CFL {resolved.mpm.cfl:g}")
+    # The resolved quality names what the target chose: not the default "standard" it was sent with.
+    grid = (resolved.mpm.dx, resolved.mpm.particles_per_cell, resolved.mpm.cfl)
+    chosen = {name for name, p in presets.items() if (p.mpm.dx, p.mpm.particles_per_cell, p.mpm.cfl) == grid}
+    assert resolved.quality == (chosen.pop() if chosen else "accuracy_target"), resolved.quality
     # No measured setting is cheaper and as accurate: the presets are among the candidates.
     assert not any(p.expected.measured and p.expected.force_error <= bound and p.expected.relative_cost
                    < expected.relative_cost for p in presets.values())
@@ -141,6 +150,8 @@ def test_an_accuracy_target_gets_the_cheapest_measured_setting_and_says_what_to_
         client.create_session({**cutting_scene(CUCUMBER), "quality": {"force_error": 0.001}})
     with pytest.raises(errors.InvalidArgument, match="scene.accuracy_target sets no bound"):
         client.create_session({**cutting_scene(CUCUMBER), "quality": {}})
+    with pytest.raises(errors.InvalidArgument, match='"accuracy_target" needs scene.accuracy_target'):
+        client.create_session({**cutting_scene(CUCUMBER), "quality": "accuracy_target"})
 
 
 def test_a_food_given_only_x_and_y_rests_on_the_board_there(client):

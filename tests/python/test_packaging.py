@@ -47,6 +47,7 @@ def assert_package_serves(python: Path, package_dir: Path, address: str, cwd: Pa
     assert Path(location).parent == package_dir, location
     info = run([python.parent / "culinarycut", "info", "--address", address], cwd=cwd)  # the console script
     assert "culinarycut.v1" in info and "pd_joint_pos" in info, info
+    assert "standard" in info and "unmeasured" in info, info  # the fine preset: no numbers, not zeros
     run([python, "-c", "from culinarycut import CulinaryCutEnv; import sys\n"
          "with CulinaryCutEnv(sys.argv[1]) as env: env.reset(seed=0); env.step(env.action_space.sample())", address],
         cwd=cwd)

@@ -4,13 +4,17 @@ reporting its interventions in the env's info and the session stats, the limiter
 an aggressive cut that still succeeds with the limiter on, held to v_safe and under F_max."""
 from __future__ import annotations
 
+import time
 from pathlib import Path
 
 import numpy as np
 import pytest
+import zmq
 
 from culinarycut import CulinaryCutEnv, errors
 from culinarycut.launch import ServerProcess, server_binary
+from culinarycut.v1 import simulator_pb2
+from google.protobuf import json_format
 
 TEST_FORCE_MODEL = Path(__file__).resolve().parents[1] / "sim" / "safety" / "test_force_model.json"
 
@@ -33,10 +37,15 @@ def start(extra_args: list[str]) -> ServerProcess:
 
 
 @pytest.fixture(scope="module")
-def safety_address():
+def safety_server():
     server = start(["--safety-model", str(TEST_FORCE_MODEL)])
-    yield server.address
+    yield server
     assert server.stop() == 0, server.output()
+
+
+@pytest.fixture(scope="module")
+def safety_address(safety_server):
+    return safety_server.address
 
 
 @pytest.fixture(scope="module")
@@ -125,6 +134,39 @@ def test_a_limited_descent_reports_interventions_in_info_and_stats(safety_addres
     assert sum(totals.interventions.values()) == sum(sum(s["guard_counts"].values()) for s in acted)
     assert stats.stage_calls["safety"] == 52 and stats.stage_wall_time_s["safety"] > 0
     assert totals.peak_knife_force_n <= 8.0
+
+
+def test_telemetry_says_when_the_limiter_acted_and_keeps_a_zero_v_safe(safety_server):
+    """A telemetry subscriber sees each Step's intervention and binding guards, and v_safe only when a food was
+    near the edge: absent above the food, present (0 included) in it."""
+    context = zmq.Context()
+    subscriber = context.socket(zmq.SUB)
+    subscriber.setsockopt(zmq.LINGER, 0)
+    subscriber.setsockopt(zmq.SUBSCRIBE, b"session/")
+    subscriber.connect(safety_server.telemetry)
+    time.sleep(0.5)  # ZeroMQ "slow joiner"
+    try:
+        with CulinaryCutEnv(safety_server.address, scene=limiter_scene(maxForceN=8.0),
+                            control_mode="pd_ee_pose_quat") as env:
+            infos = descend(env, 12)
+        frames = []
+        while subscriber.poll(1000):
+            frames.append(simulator_pb2.TelemetryFrame.FromString(subscriber.recv_multipart()[1]))
+    finally:
+        subscriber.close()
+        context.term()
+    acted = {info["safety"]["reason"] for info in infos if info["safety"]["acted"]}
+    assert acted and any(frame.limiter_acted for frame in frames)
+    for frame in frames:
+        assert frame.limiter_acted == bool(frame.bound_guards), frame
+        assert set(frame.bound_guards) <= {"speed", "force", "entry_angle"}
+    assert not frames[0].assessed  # the reset: the knife far above the food
+    near = [frame for frame in frames if frame.assessed]
+    assert near
+    # At F_max 8 N the model holds the knife: v_safe 0, which JSON drops, yet the frame still says it was assessed.
+    held = [frame for frame in near if frame.v_safe_m_s == 0.0]
+    assert held and all(json_format.MessageToDict(frame)["assessed"] for frame in held)
+    assert any(list(frame.bound_guards) == ["speed"] for frame in frames)
 
 
 def test_the_limiter_off_costs_nothing(safety_address):

@@ -53,6 +53,11 @@ def cmd_info(args) -> int:
     print(f"sessions      {info.limits.active_sessions} active of {info.limits.max_sessions} max, "
           f"idle timeout {info.limits.idle_timeout_s:g} s")
     print(f"telemetry     {info.telemetry_endpoint or 'off'}")
+    for index, preset in enumerate(info.quality_presets):
+        expected = preset.expected
+        accuracy = (f"force error {expected.force_error:.0%}, cost {expected.relative_cost:.2f}x standard"
+                    if expected.measured else "unmeasured")
+        print(f"{'presets' if index == 0 else '':<13} {preset.name:<9} {expected.setting:<26} {accuracy}")
     return 0
 
 
