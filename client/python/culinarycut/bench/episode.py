@@ -12,6 +12,7 @@ import numpy as np
 from google.protobuf import json_format
 
 from culinarycut.bench.episode_scene import EpisodeSpec
+from culinarycut.bench.style_signature import along_blade_m, blade_pitch_deg, signature
 from culinarycut.bench.suite import ALL_GUARDS
 from culinarycut.client import Client
 from culinarycut.env import CulinaryCutEnv
@@ -107,7 +108,7 @@ def run_episode(spec: EpisodeSpec, server: str, options: EpisodeOptions) -> Epis
                env_wall_s=0.0, policy_wall_s=0.0, stage_wall_s="{}", server_version="", build_id="",
                policy_version="", **_score_fields(None))
     trace: dict[str, list] = {"time_s": [], "force_n": [], "speed_m_s": [], "tcp_z_m": [], "tcp_along_cut_m": [],
-                              "knife_contact": [], "safety_acted": []}
+                              "tcp_along_blade_m": [], "blade_pitch_deg": [], "knife_contact": [], "safety_acted": []}
     frames: list = []
     try:
         with Client(server, timeout_s=options.rpc_timeout_s) as client:
@@ -207,6 +208,7 @@ def _play(client: Client, spec: EpisodeSpec, policy: Policy, options: EpisodeOpt
         row["sim_time_s"] = trace["time_s"][-1] if trace["time_s"] else 0.0
         row["pieces"] = len(info.get("food", {}).get("pieces", []))
         row.update(_score_fields(info.get("task")))
+        row.update(signature(trace["tcp_along_blade_m"], trace["blade_pitch_deg"], trace["knife_contact"]))
         row["outcome"] = "success" if info.get("success") else "failure"
         # A failure in which the arm pushed with all it has: the food was too hard for the Panda here.
         if row["outcome"] == "failure" and row["stalled_steps"] > 0 and end_reason in ("step_limit", "policy_finished"):
@@ -249,6 +251,8 @@ def _record_step(observation, info, trace, row, frames) -> None:
     trace["speed_m_s"].append(round(speed_m_s, 5))
     trace["tcp_z_m"].append(round(float(extra["tcp_pose"][2]), 5))
     trace["tcp_along_cut_m"].append(round(_along_cut_m(extra["tcp_pose"]), 5))
+    trace["tcp_along_blade_m"].append(round(along_blade_m(extra["tcp_pose"]), 5))
+    trace["blade_pitch_deg"].append(round(blade_pitch_deg(extra["tcp_pose"]), 3))
     trace["knife_contact"].append(int(info.get("food", {}).get("knife_contact", False)))
     trace["safety_acted"].append(int(acted))
     row["safety_acted_steps"] += int(acted)

@@ -54,6 +54,8 @@ EPISODE_COLUMNS = (
     ("wrong_object_cuts", "INTEGER", ""),
     ("cuts", "TEXT", "JSON: per required cut target, measured fraction, position error (fraction), angle error (deg)"),
     ("score_summary", "TEXT", "the server's one-line summary"),
+    ("saw_strokes", "INTEGER", "reversals of the knife along its blade while in the food (a saw cut's strokes)"),
+    ("pivot_deg", "REAL", "range of the blade's pitch while in the food (deg; a guillotine pivots)"),
     ("pieces", "INTEGER", "pieces at the end"),
     ("peak_force_n", "REAL", "peak knife force at the wrist (N)"),
     ("peak_speed_m_s", "REAL", "peak knife (TCP) speed (m/s)"),
