@@ -1,10 +1,12 @@
 #include "server/access_control.h"
 
 #include <fstream>
+#include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
 #include <openssl/crypto.h>
+#include <openssl/evp.h>
 
 namespace culinarycut::server {
 namespace {
@@ -97,10 +99,28 @@ std::shared_ptr<grpc::ServerCredentials> MakeServerCredentials(const AccessOptio
   return credentials;
 }
 
+// "x509_sha256:<hex>" of a PEM certificate: two certificates with the same subject are still two clients.
+std::string CertificateFingerprint(const grpc::string_ref& pem) {
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int length = 0;
+  if (EVP_Digest(pem.data(), pem.size(), digest, &length, EVP_sha256(), nullptr) != 1) return "";
+  std::ostringstream hex;
+  hex << "x509_sha256:" << std::hex << std::setfill('0');
+  for (unsigned int i = 0; i < length; ++i) hex << std::setw(2) << static_cast<int>(digest[i]);
+  return hex.str();
+}
+
 std::string CallerPrincipal(const grpc::ServerContext& context) {
   const std::shared_ptr<const grpc::AuthContext> auth = context.auth_context();
   if (!auth) return "";
-  for (const char* property : {kPrincipalProperty, "x509_subject", "x509_common_name"}) {
+  const std::vector<grpc::string_ref> token = auth->FindPropertyValues(kPrincipalProperty);
+  if (!token.empty()) return std::string(kPrincipalProperty) + ":" + std::string(token.front().data(), token.front().size());
+  // Mutual TLS: the client is its certificate, by fingerprint (the PEM gRPC saw), not its subject.
+  const std::vector<grpc::string_ref> certificate = auth->FindPropertyValues("x509_pem_cert");
+  if (!certificate.empty()) {
+    if (std::string fingerprint = CertificateFingerprint(certificate.front()); !fingerprint.empty()) return fingerprint;
+  }
+  for (const char* property : {"x509_subject", "x509_common_name"}) {
     const std::vector<grpc::string_ref> values = auth->FindPropertyValues(property);
     if (!values.empty()) return std::string(property) + ":" + std::string(values.front().data(), values.front().size());
   }

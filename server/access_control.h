@@ -43,8 +43,8 @@ std::shared_ptr<grpc::ServerCredentials> MakeServerCredentials(const AccessOptio
 // Whether calls are authenticated (tokens or client certificates), so sessions have owners.
 bool Authenticates(const AccessOptions& options);
 
-// The caller: a token's name, else a client certificate's subject, else "" (anyone who reaches the
-// port, e.g. on loopback without authentication).
+// The caller: a token's name, else a client certificate's SHA-256 fingerprint (its subject only where gRPC
+// gives no certificate), else "" (anyone who reaches the port, e.g. on loopback without authentication).
 std::string CallerPrincipal(const grpc::ServerContext& context);
 
 }  // namespace culinarycut::server

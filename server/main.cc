@@ -39,6 +39,11 @@ int main(int argc, char** argv) {
   app.add_option("--max-sessions", options.max_sessions, "most sessions served at once")
       ->capture_default_str()
       ->check(CLI::Range(1, 4096));
+  app.add_option("--max-sessions-per-owner", options.max_sessions_per_owner,
+                 "most sessions one client (bearer token, or client certificate under mutual TLS) holds at once; "
+                 "0: --max-sessions (clients on loopback without tokens count as one)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 4096));
   app.add_option("--idle-timeout", options.idle_timeout_s, "seconds after which an untouched session is closed")
       ->capture_default_str()
       ->check(CLI::Range(0.01, 1e7));

@@ -30,10 +30,11 @@ std::string RandomSessionId() {
 }  // namespace
 
 SessionManager::SessionManager(std::uint32_t max_sessions, std::chrono::duration<double> idle_timeout,
-                               std::uint64_t memory_budget_bytes)
+                               std::uint64_t memory_budget_bytes, std::uint32_t max_sessions_per_owner)
     : max_sessions_(max_sessions),
       idle_timeout_(idle_timeout),
       memory_budget_bytes_(memory_budget_bytes),
+      max_sessions_per_owner_(max_sessions_per_owner == 0 ? max_sessions : max_sessions_per_owner),
       reaper_([this] { ReaperLoop(); }) {}
 
 SessionManager::~SessionManager() {
@@ -52,6 +53,16 @@ std::shared_ptr<Session> SessionManager::Create(std::shared_ptr<const Model> mod
     if (refusal) {
       *refusal = "the server already runs its maximum of " + std::to_string(max_sessions_) +
                  " sessions; close one (CloseSession) or start the server with a larger --max-sessions";
+    }
+    return nullptr;
+  }
+  std::uint32_t owned = 0;
+  for (const auto& [id, live] : sessions_) owned += live->owner == owner;
+  if (owned >= max_sessions_per_owner_) {
+    if (refusal) {
+      *refusal = "this client already holds " + std::to_string(owned) + " sessions, its quota "
+                 "(--max-sessions-per-owner " + std::to_string(max_sessions_per_owner_) +
+                 "); close one (CloseSession) first";
     }
     return nullptr;
   }
@@ -78,10 +89,10 @@ std::shared_ptr<Session> SessionManager::Create(std::shared_ptr<const Model> mod
   return session;
 }
 
-std::shared_ptr<Session> SessionManager::Find(const std::string& id) {
+std::shared_ptr<Session> SessionManager::Find(const std::string& id, const std::string& owner) {
   std::lock_guard<std::mutex> lock(mutex_);
   const auto it = sessions_.find(id);
-  if (it == sessions_.end()) return nullptr;
+  if (it == sessions_.end() || it->second->owner != owner) return nullptr;
   it->second->Touch();
   return it->second;
 }

@@ -63,25 +63,28 @@ class SessionLock {
 
 class SessionManager {
  public:
-  // `memory_budget_bytes` bounds the sum of the live sessions' estimated memory (0: no bound).
+  // `memory_budget_bytes` bounds the sum of the live sessions' estimated memory (0: no bound);
+  // `max_sessions_per_owner` the sessions one owner (token, certificate) may hold (0: max_sessions).
   SessionManager(std::uint32_t max_sessions, std::chrono::duration<double> idle_timeout,
-                 std::uint64_t memory_budget_bytes = 0);
+                 std::uint64_t memory_budget_bytes = 0, std::uint32_t max_sessions_per_owner = 0);
   ~SessionManager();
   SessionManager(const SessionManager&) = delete;
   SessionManager& operator=(const SessionManager&) = delete;
 
   // Null, with the reason in `refusal` (naming the limit and what to lower), when the server
-  // already holds max_sessions or the model's estimated memory would pass the budget.
+  // already holds max_sessions, the owner its quota, or the model's estimated memory would pass the budget.
   std::shared_ptr<Session> Create(std::shared_ptr<const Model> model, const std::string& owner,
                                   std::string* refusal = nullptr);
-  // Null when no such session exists; marks the session as used now.
-  std::shared_ptr<Session> Find(const std::string& id);
+  // Null when no session `id` belongs to `owner`; marks it as used now only when it does (another
+  // owner's calls must not keep it alive).
+  std::shared_ptr<Session> Find(const std::string& id, const std::string& owner);
   bool Close(const std::string& id);
   // Closes sessions idle for longer than the timeout and not inside a call; returns their ids.
   std::vector<std::string> ReapIdle(std::chrono::steady_clock::time_point now);
 
   std::uint32_t size() const;
   std::uint32_t max_sessions() const { return max_sessions_; }
+  std::uint32_t max_sessions_per_owner() const { return max_sessions_per_owner_; }
   double idle_timeout_s() const { return idle_timeout_.count(); }
   std::uint64_t memory_budget_bytes() const { return memory_budget_bytes_; }
   std::uint64_t memory_reserved_bytes() const;
@@ -92,6 +95,7 @@ class SessionManager {
   const std::uint32_t max_sessions_;
   const std::chrono::duration<double> idle_timeout_;
   const std::uint64_t memory_budget_bytes_;
+  const std::uint32_t max_sessions_per_owner_;
   std::uint64_t memory_reserved_bytes_ = 0;  // sum of the live sessions' Model::estimated_memory_bytes
   mutable std::mutex mutex_;
   std::map<std::string, std::shared_ptr<Session>> sessions_;

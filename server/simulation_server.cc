@@ -98,7 +98,7 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   }
   if (options.max_handler_threads < 4) throw std::runtime_error("--max-handler-threads must be at least 4");
   sessions_ = std::make_unique<SessionManager>(options.max_sessions, std::chrono::duration<double>(options.idle_timeout_s),
-                                               MemoryBudgetBytes(options.memory_budget_mb));
+                                               MemoryBudgetBytes(options.memory_budget_mb), options.max_sessions_per_owner);
   render::RendererOptions render_options;
   render_options.robot = robot.visuals;  // the URDF parsed once, by the robot description
   renderer_ = std::make_unique<SharedRenderer>(render_options);

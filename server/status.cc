@@ -60,8 +60,7 @@ grpc::Status NotApplied(const grpc::ServerContext& context) {
 grpc::Status FindSession(SessionManager* sessions, const grpc::ServerContext& context, const std::string& session_id,
                          std::shared_ptr<Session>* session) {
   if (session_id.empty()) return InvalidField("session_id", "session_id is empty; pass the id CreateSession returned");
-  *session = sessions->Find(session_id);
-  if (*session && (*session)->owner != CallerPrincipal(context)) session->reset();
+  *session = sessions->Find(session_id, CallerPrincipal(context));  // ownership before the idle timer
   if (!*session) {
     return MakeStatus(grpc::StatusCode::NOT_FOUND,
                         "no session '" + session_id.substr(0, 64) + (session_id.size() > 64 ? "...'" : "'") +

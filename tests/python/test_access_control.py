@@ -68,13 +68,31 @@ def test_another_token_can_neither_see_nor_close_a_session(tls_server, pki):
         alice.close_session(session)
 
 
+def test_one_token_cannot_take_every_session(pki):
+    args = ["--tls-cert", str(pki / "server.pem"), "--tls-key", str(pki / "server.key"), "--token-file",
+            str(pki / "tokens.txt"), "--max-sessions-per-owner", "1"]
+    names = tokens(pki)
+    with ServerProcess(server_binary(), extra_args=args) as server, \
+            Client(server.address, tls_ca=str(pki / "ca.pem"), token=names["alice"]) as alice, \
+            Client(server.address, tls_ca=str(pki / "ca.pem"), token=names["bob"]) as bob:
+        alice.create_session()
+        with pytest.raises(errors.ResourceExhausted, match="--max-sessions-per-owner 1"):
+            alice.create_session()
+        bob.create_session()  # the server has room; alice's quota does not touch bob's
+
+
 def test_mutual_tls_needs_a_client_certificate_signed_by_the_ca(pki):
     args = ["--tls-cert", str(pki / "server.pem"), "--tls-key", str(pki / "server.key"),
             "--tls-client-ca", str(pki / "ca.pem")]
     with ServerProcess(server_binary(), extra_args=args) as server:
         with Client(server.address, tls_ca=str(pki / "ca.pem"), tls_cert=str(pki / "client.pem"),
-                    tls_key=str(pki / "client.key")) as client:
+                    tls_key=str(pki / "client.key")) as client, \
+                Client(server.address, tls_ca=str(pki / "ca.pem"), tls_cert=str(pki / "client2.pem"),
+                       tls_key=str(pki / "client2.key")) as same_subject:
             session = client.create_session().session_id
+            # Another certificate with the same subject is another client: the session is not its.
+            with pytest.raises(errors.NotFound, match="no session"):
+                same_subject.reset(session)
             client.close_session(session)
         with Client(server.address, tls_ca=str(pki / "ca.pem"), timeout_s=5) as anonymous:
             with pytest.raises(errors.Unavailable):

@@ -81,8 +81,8 @@ TEST_CASE("a Step the engine fails breaks the session until Reset or RestoreSnap
   };
   // One particle's position becomes NaN and the food is awake: the next substep must refuse it.
   auto run_away = [&] {
-    server::SessionLock lock(*server.sessions().Find(id));
-    FoodState& food = *server.sessions().Find(id)->state.food;
+    server::SessionLock lock(*server.sessions().Find(id, ""));
+    FoodState& food = *server.sessions().Find(id, "")->state.food;
     food.solver->particles().position[2][0] = std::numeric_limits<float>::quiet_NaN();
     food.awake = true;
   };

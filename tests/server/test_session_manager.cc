@@ -17,10 +17,36 @@ TEST_CASE("the session manager caps sessions and finds them by id", "[sessions]"
   REQUIRE(b);
   CHECK(a->id != b->id);
   CHECK_FALSE(sessions.Create(model, ""));
-  CHECK(sessions.Find(a->id) == a);
+  CHECK(sessions.Find(a->id, "") == a);
   CHECK(sessions.Close(a->id));
-  CHECK_FALSE(sessions.Find(a->id));
+  CHECK_FALSE(sessions.Find(a->id, ""));
   CHECK(sessions.Create(model, ""));
+}
+
+TEST_CASE("another owner's calls neither find a session nor keep it alive", "[sessions]") {
+  SessionManager sessions(4, std::chrono::seconds(10));
+  const auto mine = sessions.Create(testing::DefaultModel(), "token:alice");
+  REQUIRE(mine);
+  const auto created = mine->last_used.load();
+  CHECK_FALSE(sessions.Find(mine->id, "token:mallory"));
+  CHECK(mine->last_used.load() == created);  // the stranger's call did not touch the idle timer
+  CHECK(sessions.Find(mine->id, "token:alice") == mine);
+}
+
+TEST_CASE("one owner holds at most its quota of sessions; others still get theirs", "[sessions]") {
+  SessionManager sessions(4, std::chrono::seconds(10), 0, 2);
+  const auto model = testing::DefaultModel();
+  CHECK(sessions.max_sessions_per_owner() == 2);
+  REQUIRE(sessions.Create(model, "token:alice"));
+  const auto second = sessions.Create(model, "token:alice");
+  REQUIRE(second);
+  std::string refusal;
+  CHECK_FALSE(sessions.Create(model, "token:alice", &refusal));
+  CHECK_THAT(refusal, Catch::Contains("--max-sessions-per-owner 2"));
+  CHECK(sessions.Create(model, "token:bob"));
+  CHECK(sessions.Close(second->id));
+  CHECK(sessions.Create(model, "token:alice"));
+  CHECK(SessionManager(4, std::chrono::seconds(10)).max_sessions_per_owner() == 4);  // 0: no quota below the cap
 }
 
 TEST_CASE("idle sessions are reaped, used ones are kept", "[sessions]") {
@@ -33,7 +59,7 @@ TEST_CASE("idle sessions are reaped, used ones are kept", "[sessions]") {
   const std::vector<std::string> reaped = sessions.ReapIdle(later);
   REQUIRE(reaped.size() == 1);
   CHECK(reaped[0] == idle->id);
-  CHECK(sessions.Find(busy->id));
+  CHECK(sessions.Find(busy->id, ""));
 }
 
 TEST_CASE("a session inside a call is never reaped, however long the call", "[sessions]") {
