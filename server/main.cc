@@ -34,7 +34,8 @@ int main(int argc, char** argv) {
   CLI::App app{"CulinaryCut simulation server: a Franka Panda with a knife, served over gRPC (culinarycut.v1)"};
   app.add_option("--listen", options.listen_address, "gRPC listen address: host:port (port 0 picks a free one) or unix:///path.sock")
       ->capture_default_str();
-  app.add_option("--telemetry", options.telemetry_endpoint, "ZeroMQ PUB endpoint for telemetry; '' turns it off")
+  app.add_option("--telemetry", options.telemetry_endpoint,
+                 "ZeroMQ PUB endpoint for telemetry, e.g. tcp://127.0.0.1:5556 or ipc:///path (default: off)")
       ->capture_default_str();
   app.add_option("--max-sessions", options.max_sessions, "most sessions served at once")
       ->capture_default_str()

@@ -10,7 +10,7 @@ namespace culinarycut::server {
 
 struct ServerOptions {
   std::string listen_address = "127.0.0.1:50051";   // port 0 picks a free port
-  std::string telemetry_endpoint = "tcp://127.0.0.1:5556";  // empty: telemetry off
+  std::string telemetry_endpoint;                   // ZeroMQ PUB endpoint; empty (the default): telemetry off
   std::uint32_t max_sessions = 16;
   std::uint32_t max_sessions_per_owner = 0;          // one token's or certificate's sessions; 0: max_sessions
   double idle_timeout_s = 300.0;                     // sessions untouched this long are closed

@@ -14,7 +14,8 @@ namespace culinarycut::server {
 namespace {
 
 // "s-" and 32 hex digits from getrandom(2): unguessable, so one client cannot find another's session.
-std::string RandomSessionId() {
+// `prefix` and 128 random bits in hex.
+std::string RandomHandle(const char* prefix) {
   unsigned char bytes[16];
   std::size_t filled = 0;
   while (filled < sizeof(bytes)) {
@@ -22,9 +23,9 @@ std::string RandomSessionId() {
     if (got < 0) throw std::runtime_error("getrandom failed: no cryptographic randomness for session ids");
     filled += static_cast<std::size_t>(got);
   }
-  char id[3 + 2 * sizeof(bytes)] = {'s', '-'};
-  for (std::size_t i = 0; i < sizeof(bytes); ++i) std::snprintf(id + 2 + 2 * i, 3, "%02x", bytes[i]);
-  return id;
+  char hex[1 + 2 * sizeof(bytes)] = {};
+  for (std::size_t i = 0; i < sizeof(bytes); ++i) std::snprintf(hex + 2 * i, 3, "%02x", bytes[i]);
+  return prefix + std::string(hex);
 }
 
 }  // namespace
@@ -80,8 +81,9 @@ std::shared_ptr<Session> SessionManager::Create(std::shared_ptr<const Model> mod
   memory_reserved_bytes_ += needed;
   auto session = std::make_shared<Session>();
   do {
-    session->id = RandomSessionId();
+    session->id = RandomHandle("s-");
   } while (sessions_.count(session->id) > 0);
+  session->telemetry_topic = RandomHandle("telemetry/");
   session->model = std::move(model);
   session->owner = owner;
   session->Touch();

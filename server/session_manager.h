@@ -25,6 +25,9 @@ namespace culinarycut::server {
 
 struct Session {
   std::string id;
+  // Its telemetry frames' ZeroMQ topic, "telemetry/<128 random bits>": unrelated to the id, so a subscriber
+  // who reads every topic learns no handle to drive or close a session with.
+  std::string telemetry_topic;
   std::string owner;  // the principal that created it (CallerPrincipal); others cannot find it
   std::shared_ptr<const Model> model;
   State state;

@@ -64,12 +64,18 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
                              "drive or close every session. Listen on 127.0.0.1 (and tunnel, e.g. ssh -L), add them, "
                              "or pass --insecure to accept the risk");
   }
-  const std::string telemetry_host = options.telemetry_endpoint.rfind("tcp://", 0) == 0
-                                         ? options.telemetry_endpoint.substr(6)
-                                         : std::string("127.0.0.1:0");
+  // Telemetry goes over tcp:// (loopback unless --insecure) or ipc:// (a local socket file); ZeroMQ's other
+  // transports (pgm, epgm, udp, ws, tipc, vmci, ...) reach beyond this machine and are refused by name.
+  const std::string& telemetry = options.telemetry_endpoint;
+  const std::string transport = telemetry.substr(0, telemetry.find("://"));
+  if (!telemetry.empty() && transport != "tcp" && transport != "ipc") {
+    throw std::runtime_error("--telemetry " + telemetry + ": transport '" + transport +
+                             "' is not allowed; use tcp://127.0.0.1:PORT or ipc:///path");
+  }
+  const std::string telemetry_host = transport == "tcp" ? telemetry.substr(6) : std::string("127.0.0.1:0");
   if (!options.insecure && !options.telemetry_endpoint.empty() && !IsLoopbackOrUnix(telemetry_host)) {
     throw std::runtime_error("--telemetry " + options.telemetry_endpoint +
-                             " is not on loopback: telemetry names every session and is not encrypted. Bind it to "
+                             " is not on loopback: telemetry shows every session's robot state and is not encrypted. Bind it to "
                              "tcp://127.0.0.1:PORT, or pass --insecure to accept the risk");
   }
   if (options.insecure && !protected_port && !IsLoopbackOrUnix(options.listen_address)) {

@@ -38,7 +38,7 @@ double SimulatorService::ObserveToWire(Session& session, v1::FrameStamp* stamp, 
   session.timers.Add(render_time);
   StampToWire(observation.frame_id, observation.sim_time_s, stamp);
   ObservationToWire(*session.model, observation, wire);
-  if (telemetry_) telemetry_->Publish(TelemetryToWire(session.id, observation, step_report));
+  if (telemetry_) telemetry_->Publish(session.telemetry_topic, TelemetryToWire(observation, step_report));
   return observation.render_wall_time_ms;
 }
 
@@ -99,6 +99,7 @@ grpc::Status SimulatorService::CreateSession(grpc::ServerContext* context, const
     const std::shared_ptr<Session> session = sessions_->Create(model, CallerPrincipal(*context), &refusal);
     if (!session) return MakeStatus(grpc::StatusCode::RESOURCE_EXHAUSTED, refusal);
     response->set_session_id(session->id);
+    if (telemetry_) response->set_telemetry_topic(session->telemetry_topic);
     StampToWire(0, 0.0, response->mutable_stamp());
     DescribeSpaces(*model, response);
     *response->mutable_resolved_scene() = SceneToWire(model->config);

@@ -12,8 +12,7 @@ TelemetryPublisher::TelemetryPublisher(const std::string& endpoint) : socket_(co
   endpoint_ = socket_.get(zmq::sockopt::last_endpoint);
 }
 
-void TelemetryPublisher::Publish(const v1::TelemetryFrame& frame) {
-  const std::string topic = "session/" + frame.session_id();
+void TelemetryPublisher::Publish(const std::string& topic, const v1::TelemetryFrame& frame) {
   const std::string payload = frame.SerializeAsString();
   std::lock_guard<std::mutex> lock(mutex_);
   socket_.send(zmq::buffer(topic), zmq::send_flags::sndmore | zmq::send_flags::dontwait);

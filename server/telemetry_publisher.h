@@ -1,5 +1,6 @@
-// Streams one TelemetryFrame per step on a ZeroMQ PUB socket, topic "session/<id>", for viewers
-// and recorders. Sending never blocks a step: slow subscribers lose frames, not the simulation.
+// Streams one TelemetryFrame per step on a ZeroMQ PUB socket, under the session's telemetry topic
+// (Session::telemetry_topic, told only to its creator), for viewers and recorders. Sending never blocks a
+// step: slow subscribers lose frames, not the simulation.
 #pragma once
 
 #include <memory>
@@ -18,7 +19,7 @@ class TelemetryPublisher {
   explicit TelemetryPublisher(const std::string& endpoint);
   // The endpoint actually bound, with the real port.
   const std::string& endpoint() const { return endpoint_; }
-  void Publish(const v1::TelemetryFrame& frame);
+  void Publish(const std::string& topic, const v1::TelemetryFrame& frame);
 
  private:
   zmq::context_t context_{1};

@@ -133,10 +133,8 @@ void SessionStatsToWire(const Model& model, const State& state, const StageTotal
   }
 }
 
-v1::TelemetryFrame TelemetryToWire(const std::string& session_id, const Observation& observation,
-                                   const safety::LimiterReport* step_report) {
-  v1::TelemetryFrame frame;
-  frame.set_session_id(session_id);
+v1::TelemetryFrame TelemetryToWire(const Observation& observation, const safety::LimiterReport* step_report) {
+  v1::TelemetryFrame frame;  // no session id: the topic it is published under tells sessions apart
   StampToWire(observation.frame_id, observation.sim_time_s, frame.mutable_stamp());
   AssignVector(observation.robot.qpos_rad, frame.mutable_qpos());
   AssignVector(observation.robot.qvel_rad_s, frame.mutable_qvel());

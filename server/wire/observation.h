@@ -27,8 +27,7 @@ void SessionStatsToWire(const Model& model, const State& state, const StageTotal
 
 // What the telemetry socket publishes for one session after a Reset, Step or Restore; `step_report`, the
 // safety limiter's report of the Step that led to it (null otherwise), adds whether it acted and which guards bound.
-v1::TelemetryFrame TelemetryToWire(const std::string& session_id, const Observation& observation,
-                                   const safety::LimiterReport* step_report = nullptr);
+v1::TelemetryFrame TelemetryToWire(const Observation& observation, const safety::LimiterReport* step_report = nullptr);
 
 // The spec handshake of CreateSession: every observation array and every control mode's action.
 void DescribeSpaces(const Model& model, v1::CreateSessionResponse* response);
