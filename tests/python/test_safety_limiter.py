@@ -142,7 +142,7 @@ def test_telemetry_says_when_the_limiter_acted_and_keeps_a_zero_v_safe(safety_se
     context = zmq.Context()
     subscriber = context.socket(zmq.SUB)
     subscriber.setsockopt(zmq.LINGER, 0)
-    subscriber.setsockopt(zmq.SUBSCRIBE, b"session/")
+    subscriber.setsockopt(zmq.SUBSCRIBE, b"telemetry/")
     subscriber.connect(safety_server.telemetry)
     time.sleep(0.5)  # ZeroMQ "slow joiner"
     try:
