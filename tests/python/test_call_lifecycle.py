@@ -145,3 +145,18 @@ def test_a_huge_instruction_is_not_echoed_back_whole(client):
     with pytest.raises(CulinaryCutError) as refused:
         client.tasks.parse_instruction("cut the " + "zucchini " * 20_000)
     assert refused.value.code.name == "INVALID_ARGUMENT" and len(refused.value.details) < 1100
+
+
+def test_a_request_grpc_cannot_decode_is_explained_as_the_clients_fault(address):
+    """A session id that is not UTF-8: gRPC refuses it before the server's code runs (INTERNAL, no message);
+    the client's error says what happened instead of looking like an engine failure."""
+    import grpc
+    from culinarycut.errors import Internal, from_rpc_error
+    with grpc.insecure_channel(address) as channel:
+        raw_step = channel.unary_unary("/culinarycut.v1.Simulator/Step", request_serializer=lambda b: b,
+                                       response_deserializer=lambda b: b)
+        with pytest.raises(grpc.RpcError) as refused:
+            raw_step(b"\x0a\x02\xff\xfe", timeout=10)  # field 1 (session_id): two bytes that are not UTF-8
+    error = from_rpc_error(refused.value)
+    assert isinstance(error, Internal) and "could not decode the request" in error.details
+    assert "not UTF-8" in error.details and "not in the engine" in error.details

@@ -19,11 +19,26 @@ void Call(const char* method, const Connection& connection, Rpc rpc) {
 
 }  // namespace
 
+namespace {
+
+// gRPC answers a request it cannot decode itself, before the server's code sees it, with INTERNAL and no
+// message: said here, so that a client's bug does not read as an engine failure.
+std::string Details(const grpc::Status& status) {
+  if (status.error_code() == grpc::StatusCode::INTERNAL && status.error_message().empty()) {
+    return "the server could not decode the request (gRPC answered INTERNAL with no message): it is not a valid "
+           "culinarycut.v1 message, e.g. a string field that is not UTF-8; the request was not applied, and this "
+           "is a fault in what the client sent, not in the engine";
+  }
+  return status.error_message();
+}
+
+}  // namespace
+
 RpcError::RpcError(const std::string& method, const grpc::Status& status, std::string field)
     : std::runtime_error(method + " failed (gRPC code " + std::to_string(status.error_code()) + "): " +
-                         status.error_message()),
+                         Details(status)),
       code_(status.error_code()),
-      details_(status.error_message()),
+      details_(Details(status)),
       field_(std::move(field)) {}
 
 namespace {

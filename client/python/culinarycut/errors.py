@@ -70,11 +70,20 @@ _BY_CODE = {
 # The trailing metadata in which the server names the field of an INVALID_ARGUMENT (a structured detail).
 FIELD_METADATA_KEY = "culinarycut-field"
 
+# gRPC answers a request it cannot decode itself, before the server's code sees it, with INTERNAL and no
+# message: said here, so that a client's bug does not read as an engine failure.
+UNDECODABLE_REQUEST = ("the server could not decode the request (gRPC answered INTERNAL with no message): it is "
+                       "not a valid culinarycut.v1 message, e.g. a string field that is not UTF-8; the request was "
+                       "not applied, and this is a fault in what the client sent, not in the engine")
+
 
 def from_rpc_error(err: grpc.RpcError) -> CulinaryCutError:
     """Map a grpc.RpcError (a grpc.Call) to the matching CulinaryCutError subclass."""
     code = err.code() if hasattr(err, "code") else grpc.StatusCode.UNKNOWN
-    details = (err.details() if hasattr(err, "details") else None) or str(err)
+    details = err.details() if hasattr(err, "details") else None
+    if code == grpc.StatusCode.INTERNAL and not details:
+        details = UNDECODABLE_REQUEST
+    details = details or str(err)
     trailers = err.trailing_metadata() if hasattr(err, "trailing_metadata") else None
     field = next((value for key, value in (trailers or ()) if key == FIELD_METADATA_KEY), "")
     cls = _BY_CODE.get(code)
