@@ -86,6 +86,10 @@ class SessionManager {
   std::vector<std::string> ReapIdle(std::chrono::steady_clock::time_point now);
 
   std::uint32_t size() const;
+  // The server is stopping: Steps in flight give up at their next check and roll back, at once rather
+  // than at the shutdown's grace deadline.
+  void BeginStopping() { stopping_calls_ = true; }
+  bool stopping() const { return stopping_calls_; }
   std::uint32_t max_sessions() const { return max_sessions_; }
   std::uint32_t max_sessions_per_owner() const { return max_sessions_per_owner_; }
   double idle_timeout_s() const { return idle_timeout_.count(); }
@@ -99,6 +103,7 @@ class SessionManager {
   const std::chrono::duration<double> idle_timeout_;
   const std::uint64_t memory_budget_bytes_;
   const std::uint32_t max_sessions_per_owner_;
+  std::atomic<bool> stopping_calls_{false};
   std::uint64_t memory_reserved_bytes_ = 0;  // sum of the live sessions' Model::estimated_memory_bytes
   mutable std::mutex mutex_;
   std::map<std::string, std::shared_ptr<Session>> sessions_;

@@ -152,7 +152,9 @@ std::string SimulationServer::telemetry_endpoint() const { return telemetry_ ? t
 
 void SimulationServer::Shutdown() {
   if (server_) {
-    // Calls in flight get 1 s to finish; then they are cancelled, and a Step stops between substeps.
+    // A Step in flight stops at its next check and rolls back now; other calls get 1 s to finish, then
+    // they are cancelled.
+    sessions_->BeginStopping();
     server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));
     server_->Wait();
     server_.reset();

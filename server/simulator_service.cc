@@ -140,8 +140,8 @@ grpc::Status SimulatorService::Step(grpc::ServerContext* context, const v1::Step
     // The deadline is compared every time (cheap); gRPC's own cancellation flag costs about 20 us to
     // ask, so it is asked at most every 5 ms of wall time.
     auto next_check = std::chrono::steady_clock::now();
-    const CancelCheck abandoned = [context, &next_check] {
-      if (std::chrono::system_clock::now() > context->deadline()) return true;
+    const CancelCheck abandoned = [this, context, &next_check] {
+      if (sessions_->stopping() || std::chrono::system_clock::now() > context->deadline()) return true;
       const auto now = std::chrono::steady_clock::now();
       if (now < next_check) return false;
       next_check = now + std::chrono::milliseconds(5);
@@ -158,6 +158,10 @@ grpc::Status SimulatorService::Step(grpc::ServerContext* context, const v1::Step
       spdlog::error("session {}: {}", session->id, session->broken_reason);
       return MakeStatus(grpc::StatusCode::INTERNAL, session->broken_reason +
                                                           "; the session is now broken: call Reset or RestoreSnapshot");
+    }
+    if (result.cancelled && sessions_->stopping()) {
+      return MakeStatus(grpc::StatusCode::UNAVAILABLE,
+                        "the server is shutting down; the step was stopped and rolled back, nothing of it was applied");
     }
     if (result.cancelled) return NotApplied(*context);
     session->timers.Add(result.timings);

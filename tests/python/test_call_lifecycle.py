@@ -90,15 +90,18 @@ def stop_during_a_long_step(signals: int) -> tuple[ServerProcess, int, float, li
 def test_sigterm_during_a_long_step_exits_within_2_s():
     server, code, elapsed, errors = stop_during_a_long_step(signals=1)
     assert elapsed < 2.0, f"exit took {elapsed:.2f} s; output:\n{server.output()}"
-    assert errors, "the long step should have been cut short"
+    # The step in flight was stopped at once (not at the shutdown's 1 s grace deadline) and rolled back.
+    assert errors and "shutting down" in str(errors[0]) and "rolled back" in str(errors[0]), errors
     assert code == 0, server.output()
+    assert "stopped cleanly" in server.output()
 
 
-def test_a_second_stop_signal_exits_at_once_during_a_long_step():
-    server, code, _, _ = stop_during_a_long_step(signals=2)
-    # The second signal does not wait for the grace period: exit code 1 and the log says why.
-    assert code == 1, server.output()
-    assert "second stop signal" in server.output()
+def test_a_second_stop_signal_never_waits():
+    server, code, elapsed, _ = stop_during_a_long_step(signals=2)
+    # The step stops at the first signal, so the server is usually already gone cleanly; if it is not, the
+    # second signal exits at once (code 1, and the log says why) instead of waiting for calls in flight.
+    assert elapsed < 2.0, f"exit took {elapsed:.2f} s; output:\n{server.output()}"
+    assert code == 0 or (code == 1 and "second stop signal" in server.output()), (code, server.output())
 
 
 def test_a_second_server_on_a_taken_port_fails_at_start():
