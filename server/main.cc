@@ -4,6 +4,8 @@
 
 #include <chrono>
 #include <csignal>
+
+#include <sys/resource.h>
 #include <cstdlib>
 #include <cstdio>
 #include <future>
@@ -85,6 +87,16 @@ int main(int argc, char** argv) {
   // cutting episodes; with these it stays flat (docs/benchmarks/soak.md).
   mallopt(M_MMAP_THRESHOLD, 64 * 1024);
   mallopt(M_ARENA_MAX, 2);
+
+  // Every connection is a descriptor: at the soft limit gRPC 1.51's listener fails accept4 with EMFILE
+  // and never accepts again, so take all the descriptors the hard limit allows.
+  if (rlimit files{}; getrlimit(RLIMIT_NOFILE, &files) == 0 && files.rlim_cur < files.rlim_max) {
+    const rlim_t before = files.rlim_cur;
+    files.rlim_cur = files.rlim_max;
+    if (setrlimit(RLIMIT_NOFILE, &files) == 0) {
+      spdlog::info("descriptor limit raised from {} to {}", before, files.rlim_cur);
+    }
+  }
 
   // Block the stop signals in every thread (gRPC's included); the main thread waits for them.
   sigset_t stop_signals;

@@ -121,6 +121,10 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   // One server per port: with port reuse on, a second server on a taken port would share its
   // incoming connections and clients would lose their sessions at random.
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
+  // A connection that has not finished its TLS/HTTP2 handshake in 10 s, or has carried no call for 10
+  // minutes, is closed: idle sockets from a flood give their descriptors back.
+  builder.AddChannelArgument(GRPC_ARG_SERVER_HANDSHAKE_TIMEOUT_MS, 10'000);
+  builder.AddChannelArgument(GRPC_ARG_MAX_CONNECTION_IDLE_MS, 600'000);
   // A bounded thread pool: 1,000 concurrent calls must not become 1,000 threads.
   grpc::ResourceQuota quota("culinarycut-server");
   quota.SetMaxThreads(static_cast<int>(options.max_handler_threads));

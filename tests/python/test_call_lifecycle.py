@@ -163,3 +163,39 @@ def test_a_request_grpc_cannot_decode_is_explained_as_the_clients_fault(address)
     error = from_rpc_error(refused.value)
     assert isinstance(error, Internal) and "could not decode the request" in error.details
     assert "not UTF-8" in error.details and "not in the engine" in error.details
+
+
+def test_a_connection_flood_past_the_soft_descriptor_limit_leaves_the_server_serving():
+    """Started with a soft limit of 64 descriptors: 300 idle TCP connections would exhaust it, and gRPC's
+    listener never accepts again after EMFILE; the server raises its soft limit to the hard one at start,
+    so a new client is served during the flood and after it."""
+    import resource
+    import socket
+    hard = resource.getrlimit(resource.RLIMIT_NOFILE)[1]
+    if hard != resource.RLIM_INFINITY and hard < 1024:
+        pytest.skip(f"the hard descriptor limit here is {hard}: no room above the flood")
+
+    def low_soft_limit():
+        resource.setrlimit(resource.RLIMIT_NOFILE, (64, hard))
+
+    process = subprocess.Popen([str(server_binary()), "--listen", "127.0.0.1:0"], stdout=subprocess.PIPE,
+                               stderr=subprocess.STDOUT, text=True, preexec_fn=low_soft_limit)
+    flood = []
+    try:
+        lines = [process.stdout.readline() for _ in range(3)]
+        address = next(m.group(1) for line in lines if (m := re.search(r"listening on (\S+:\d+)", line)))
+        assert any("descriptor limit raised from 64" in line for line in lines), lines
+        host, port = address.rsplit(":", 1)
+        for _ in range(300):
+            flood.append(socket.create_connection((host, int(port)), timeout=5))
+        with Client(address, timeout_s=10) as during:
+            assert during.server_info().version
+        for connection in flood:
+            connection.close()
+        with Client(address, timeout_s=10) as after:
+            assert after.server_info().version
+    finally:
+        for connection in flood:
+            connection.close()
+        process.terminate()
+        process.wait(timeout=10)
