@@ -13,8 +13,9 @@ from __future__ import annotations
 import numpy as np
 from culinarycut.datasets.adapter_layouts import (ACTION_UNITS, DELTA_EE_ACTION, DELTA_EE_PROPRIO, EE_DELTA_UNIT_M,
                                                   EE_DELTA_UNIT_RAD)
+from culinarycut.datasets.rotation_vector import tcp_rotation_vector
 
-from culinarycut_policies.rotation import matrix_to_quat_wxyz, quat_wxyz_to_axis_angle
+from culinarycut_policies.rotation import matrix_to_quat_wxyz
 from culinarycut_policies.statistics import DatasetStatistics, StatisticsError, load_statistics, require_layout
 
 POSE_DIMS = 6          # x, y, z, roll, pitch, yaw deltas; a 7th (gripper) is dropped
@@ -83,9 +84,10 @@ def tcp_pose(observation: dict) -> tuple[np.ndarray, np.ndarray]:
 
 
 def tcp_position_axis_angle(observation: dict) -> np.ndarray:
-    """[x, y, z, rx, ry, rz]: LIBERO's eef state (position and rotation vector), the knife's TCP."""
+    """[x, y, z, rx, ry, rz]: LIBERO's eef state (position and rotation vector), the knife's TCP; the same
+    rotation vector as the export's proprio (continuous through edge down: rotation_vector.py)."""
     position, quaternion = tcp_pose(observation)
-    return np.concatenate([position, quat_wxyz_to_axis_angle(quaternion)])
+    return np.concatenate([position, tcp_rotation_vector(quaternion)])
 
 
 def pad_state(state: np.ndarray, dim: int) -> np.ndarray:

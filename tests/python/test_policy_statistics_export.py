@@ -57,6 +57,9 @@ def test_every_adapter_loads_its_key_of_the_export(exported):
     rdt = RDTPolicy(statistics=str(path))
     assert rdt.stats.key == "culinarycut_rdt" and rdt.stats.action.dim == rdt.stats.proprio.dim == 16
     entry = document["culinarycut_delta_ee"]
+    # a cut holds the knife near edge down: its rotation vector stays near (+pi, ...), not split at -pi and pi
+    q01, q99 = np.array(entry["proprio"]["q01"][3:6]), np.array(entry["proprio"]["q99"][3:6])
+    assert q01[0] > 2.5 and q99[0] < 3.8 and (q99 - q01 < 0.6).all(), (q01, q99)
     assert entry["num_transitions"] == len(exported["steps"]["actions"]) and entry["num_trajectories"] == 1
 
 
