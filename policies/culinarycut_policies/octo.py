@@ -1,5 +1,6 @@
 """Octo through an openpi-protocol server (policies/servers/serve_octo.py): `image_primary` 256 x 256 and
-`image_wrist` 128 x 128 (Lanczos squash, as Octo's ResizeImageWrapper), a history window of 2 with
+`image_wrist` 128 x 128 (Lanczos squash, as Octo's ResizeImageWrapper, which also centre-crops
+`image_primary` to 0.9 of its area and resizes it back: option crop_primary), a history window of 2 with
 `timestep_pad_mask` (octo/utils/gym_wrappers.py HistoryWrapper), batch dimension first. The server
 answers normalised action chunks (1, 4, 7) (sample_actions without statistics; a server whose metadata
 says `normalized_actions` false is refused); they are un-normalised
@@ -13,7 +14,7 @@ import numpy as np
 
 from culinarycut_policies.actions import delta_to_ee_delta_pose, load_delta_ee_statistics
 from culinarycut_policies.chunking import OpenLoopChunks, TemporalEnsemble
-from culinarycut_policies.images import camera_rgb, squash_resize
+from culinarycut_policies.images import camera_rgb, octo_center_crop, squash_resize
 from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy
 from culinarycut_policies.statistics import unnormalize_normal
 from culinarycut_policies.transports.faults import PolicyServerError
@@ -23,6 +24,7 @@ PRIMARY_SIZE = 256
 WRIST_SIZE = 128
 WINDOW = 2          # octo-base-1.5's window size (option window)
 PRED_HORIZON = 4    # its action head's chunk (option action_horizon)
+CROP_AREA = 0.9     # octo/utils/gym_wrappers.py ResizeImageWrapper avg_scale, on image_primary
 EXECUTIONS = ("ensemble", "receding")
 
 
@@ -63,7 +65,8 @@ class OctoPolicy(RemotePolicy):
                  unnorm_key: str | None = None, camera: str = "front", wrist_camera: str | None = None,
                  camera_size: int = DEFAULT_CAMERA_SIZE, execution: str = "ensemble", exec_horizon: int = 1,
                  exp_weight: float = 0.0, window: int = WINDOW, action_horizon: int = PRED_HORIZON,
-                 action_units: str | None = None, api_key: str | None = None, **transport):
+                 action_units: str | None = None, crop_primary: bool = True, api_key: str | None = None,
+                 **transport):
         super().__init__(url=url, **transport)
         self.stats, self.action_units = load_delta_ee_statistics(statistics, unnorm_key, action_units,
                                                                  policy=self.name, proprio=False)
@@ -76,6 +79,7 @@ class OctoPolicy(RemotePolicy):
         self.executor = (TemporalEnsemble(self.action_horizon, exp_weight) if execution == "ensemble"
                          else OpenLoopChunks(int(exec_horizon)))
         self.use_cameras(camera, wrist_camera, camera_size)
+        self.crop_primary = bool(crop_primary)
         self.history = OctoHistory(self.window)
         self.transport = OpenPIWebsocketClient(self.url, self.timeouts, api_key=api_key)
 
@@ -97,7 +101,8 @@ class OctoPolicy(RemotePolicy):
                                         f"set option {option}={metadata[option]}")
 
     def frame(self, observation: dict) -> dict:
-        frame = {"image_primary": squash_resize(camera_rgb(observation, self.camera), PRIMARY_SIZE, PRIMARY_SIZE)}
+        primary = squash_resize(camera_rgb(observation, self.camera), PRIMARY_SIZE, PRIMARY_SIZE)
+        frame = {"image_primary": octo_center_crop(primary, CROP_AREA) if self.crop_primary else primary}
         if self.wrist_camera:
             frame["image_wrist"] = squash_resize(camera_rgb(observation, self.wrist_camera), WRIST_SIZE, WRIST_SIZE)
         return frame
