@@ -27,6 +27,9 @@ RDT_UNITS = "si"  # absolute states: rad, m, and the unitless 6-D rotation
 DELTA_EE_ACTION_NAMES = ["dx_m", "dy_m", "dz_m", "rx_rad", "ry_rad", "rz_rad", "gripper_open"]
 DELTA_EE_PROPRIO_NAMES = ["tcp_x_m", "tcp_y_m", "tcp_z_m", "tcp_rotvec_x_rad", "tcp_rotvec_y_rad",
                           "tcp_rotvec_z_rad", "gripper_0", "gripper_1"]
+# Their indices in RDT's 128-D unified vector (configs/state_vec.py): right_arm_joint_0..6_pos (0-6),
+# right_eef_pos_x..z (30-32), right_eef_angle_0..5 (33-38). Slot 10 (right gripper) is not used: no gripper.
+RDT_UNIFIED_SLOTS = list(range(7)) + [30, 31, 32] + list(range(33, 39))
 RDT_STATE_NAMES = [f"right_arm_joint_{i}_pos_rad" for i in range(7)] + \
     ["right_eef_pos_x_m", "right_eef_pos_y_m", "right_eef_pos_z_m"] + [f"right_eef_angle_{i}" for i in range(6)]
 
