@@ -7,6 +7,7 @@ the writer's HDF5 handles."""
 from __future__ import annotations
 
 import dataclasses
+import io
 import json
 import shutil
 from pathlib import Path
@@ -16,11 +17,17 @@ import duckdb
 import h5py
 import numpy as np
 import pytest
+from PIL import Image
+
+import rdt_reader
 from culinarycut import Client
+from culinarycut.datasets.adapter_layouts import RDT_UNIFIED_SLOTS, rdt_states
 from culinarycut.datasets.demo import load_demonstration
 from culinarycut.datasets.demo_from_oracle import record_oracle_demonstration
 from culinarycut.datasets.episode_file import read_episode, write_episode
+from culinarycut.datasets.episodes import iter_episodes
 from culinarycut.datasets.export import export
+from culinarycut.datasets.export_rdt import export_rdt
 from culinarycut.datasets.generate import generate, run_job
 from culinarycut.datasets.jobs import DatasetConfig, Randomisation, draw_variation, job_scene, make_jobs
 from culinarycut.datasets.store import GenerationStore
@@ -314,28 +321,58 @@ def test_lerobot_v21_read_back(dataset):
     assert referenced == {t["task"] for t in tasks} == {t for e in episodes for t in e["tasks"]}
 
 
-def test_rdt_hdf5_and_statistics(dataset):
-    folders = sorted(Path(dataset["export"]["rdt"]).iterdir())
-    assert len(folders) == 3
-    for folder in folders:
-        with h5py.File(folder / f"{folder.name}.hdf5", "r") as file:
-            n = file["action"].shape[0]
-            assert file["observations/qpos"].shape[0] == n
-            # Our cameras, and upstream's names linked to them (front is RDT's cam_high).
-            assert set(file["observations/images"].keys()) - {"cam_high", "cam_right_wrist"} == set(CAMERAS)
-            assert "cam_high" in file["observations/images"]
-            # RDT's reader decodes each frame's JPEG bytes with OpenCV: the recorded RGB comes back.
-            jpeg = file["observations/images/cam_high"][0]
-            decoded = cv2.imdecode(np.frombuffer(jpeg, np.uint8), cv2.IMREAD_COLOR)
-            index = int(folder.name.split("_")[1])
-            with h5py.File(dataset["export"]["robomimic"], "r") as robomimic:
-                recorded = robomimic[f"data/demo_{index}/obs/front_image"][0]
-            assert decoded.shape == recorded.shape
-            assert np.abs(decoded.astype(int) - recorded.astype(int)).mean() < 6.0  # JPEG at quality 95
-            assert file.attrs["control_frequency_hz"] == 20.0
-            assert file.attrs["scene"] in ("table", "kitchen") and file.attrs["topology"]
-        instructions = json.loads((folder / "expanded_instruction_gpt-4-turbo.json").read_text())
-        assert instructions["instruction"] and len(instructions["expanded_instruction"]) >= 5
+def test_rdt_export_read_by_rdts_hdf5_reader(dataset, tmp_path):
+    episodes = list(iter_episodes(dataset["root"]))
+    longest = max(len(steps["actions"]) for _, _, steps in episodes)
+    # the default export, and one whose minimum makes every episode padded
+    for out, min_steps in ((Path(dataset["export"]["rdt"]), 128), (tmp_path / "rdt", longest + 5)):
+        if min_steps != 128:
+            export_rdt(dataset["root"], out, min_steps=min_steps)
+        folders = sorted(out.iterdir())
+        assert len(folders) == 3
+        for folder, (_, _, steps) in zip(folders, episodes):
+            check_rdt_episode(folder / f"{folder.name}.hdf5", steps, min_steps)
+
+
+def check_rdt_episode(path: Path, steps: dict, min_steps: int) -> None:
+    recorded = len(steps["actions"])
+    valid, trajectory = rdt_reader.parse_state_only(path)
+    assert valid  # not dropped as too short
+    states = rdt_states(steps)  # the RDT adapter's robot_state of each observation
+    with h5py.File(path, "r") as file:
+        assert file.attrs["recorded_steps"] == recorded and len(file["action"]) == max(recorded, min_steps)
+        np.testing.assert_array_equal(file["recorded_actions"][:recorded], steps["actions"])
+        assert file.attrs["control_frequency_hz"] == 20.0
+        assert file.attrs["scene"] in ("table", "kitchen") and file.attrs["topology"]
+        # Our cameras, and upstream's names linked to them (front is RDT's cam_high).
+        assert set(file["observations/images"].keys()) - {"cam_high", "cam_right_wrist"} == set(CAMERAS)
+        first = rdt_reader.first_moving_step(file["observations/qpos"][:])
+    instructions = json.loads((path.parent / "expanded_instruction_gpt-4-turbo.json").read_text())
+    assert instructions["instruction"] and len(instructions["expanded_instruction"]) >= 5
+    # the trajectory the reader keeps: from the step before the first move, raw values in the adapter's slots
+    kept = trajectory["state"][:, RDT_UNIFIED_SLOTS]
+    np.testing.assert_allclose(kept[:recorded - first + 1], states[first - 1:], atol=1e-6)
+    assert (np.delete(trajectory["state"], RDT_UNIFIED_SLOTS, axis=1) == 0).all()
+    for step_id in (first, recorded - 2):
+        valid, sample = rdt_reader.parse_step(path, step_id)
+        # the state and the action chunk in the adapter's unified slots: each action is the next step's
+        # state; past the recording the knife holds its last state (our padding, then the reader's own)
+        np.testing.assert_allclose(sample["state"][0, RDT_UNIFIED_SLOTS], states[step_id], atol=1e-6)
+        ahead = states[step_id + 1:step_id + 1 + rdt_reader.CHUNK_SIZE]
+        ahead = np.concatenate([ahead, np.repeat(states[-1:], rdt_reader.CHUNK_SIZE - len(ahead), axis=0)])
+        np.testing.assert_allclose(sample["actions"][:, RDT_UNIFIED_SLOTS], ahead, atol=1e-6)
+        assert np.flatnonzero(sample["state_indicator"]).tolist() == RDT_UNIFIED_SLOTS
+        # standard RGB JPEGs: OpenCV's decode is BGR (converted as RDT's ALOHA converter does), PIL's RGB
+        bgr = sample["cam_high"][-1]
+        rgb = cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB)
+        assert np.abs(rgb.astype(int) - steps["obs/front_rgb"][step_id].astype(int)).mean() < 6.0  # quality 95
+        with h5py.File(path, "r") as file:
+            pil = np.asarray(Image.open(io.BytesIO(file["observations/images/front"][step_id])).convert("RGB"))
+        assert np.abs(pil.astype(int) - rgb.astype(int)).max() <= 2
+        assert sample["cam_right_wrist"].shape == (2, 0, 0, 0)  # no wrist camera in this dataset
+
+
+def test_export_statistics(dataset):
     statistics = json.loads(Path(dataset["export"]["statistics"]).read_text())
     entry = statistics["culinarycut"]
     assert entry["num_trajectories"] == 3
