@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 from culinarycut.datasets.adapter_layouts import (ACTION_UNITS, DELTA_EE_ACTION, DELTA_EE_PROPRIO, EE_DELTA_UNIT_M,
-                                                  EE_DELTA_UNIT_RAD)
+                                                  EE_DELTA_UNIT_RAD, ROBOSUITE_OSC_UNIT_M, ROBOSUITE_OSC_UNIT_RAD)
 from culinarycut.datasets.rotation_vector import tcp_rotation_vector
 
 from culinarycut_policies.rotation import matrix_to_quat_wxyz
@@ -23,7 +23,7 @@ POSE_DIMS = 6          # x, y, z, roll, pitch, yaw deltas; a 7th (gripper) is dr
 # ManiSkill's pd_ee_delta_pose (docs/robot.md); robosuite's OSC_POSE controller (LIBERO: output_max
 # 0.05 m and 0.5 rad, its input clipped to [-1, 1] first).
 UNIT_SCALES = {"metres_radians": (1.0, 1.0), "maniskill_normalised": (EE_DELTA_UNIT_M, EE_DELTA_UNIT_RAD),
-               "robosuite_osc": (0.05, 0.5)}
+               "robosuite_osc": (ROBOSUITE_OSC_UNIT_M, ROBOSUITE_OSC_UNIT_RAD)}
 CLIPPED_UNITS = ("robosuite_osc",)
 assert set(UNIT_SCALES) == set(ACTION_UNITS)
 

@@ -16,20 +16,23 @@ import cv2
 import duckdb
 import h5py
 import numpy as np
+import gymnasium
 import pytest
 from PIL import Image
 
 import rdt_reader
 from culinarycut import Client
-from culinarycut.datasets.adapter_layouts import RDT_UNIFIED_SLOTS, rdt_states
+from culinarycut.datasets.adapter_layouts import RDT_UNIFIED_SLOTS, delta_ee_actions, rdt_states
 from culinarycut.datasets.demo import load_demonstration
 from culinarycut.datasets.demo_from_oracle import record_oracle_demonstration
 from culinarycut.datasets.episode_file import read_episode, write_episode
 from culinarycut.datasets.episodes import iter_episodes
 from culinarycut.datasets.export import export
+from culinarycut.datasets.export_libero import export_libero
 from culinarycut.datasets.export_rdt import export_rdt
 from culinarycut.datasets.generate import generate, run_job
 from culinarycut.datasets.jobs import DatasetConfig, Randomisation, draw_variation, job_scene, make_jobs
+from culinarycut.datasets.rotation_vector import quat_xyzw_to_axis_angle
 from culinarycut.datasets.store import GenerationStore
 from culinarycut.datasets.verify import verify
 
@@ -108,7 +111,13 @@ def test_robomimic_hdf5_read_back(dataset):
         demos = sorted(data.keys())
         assert demos == ["demo_0", "demo_1", "demo_2"]
         assert data.attrs["total"] == sum(data[d].attrs["num_samples"] for d in demos)
-        assert json.loads(data.attrs["env_args"])["env_kwargs"]["control_mode"] == "pd_ee_pose_quat"
+        env_meta = json.loads(data.attrs["env_args"])
+        # robomimic/envs/env_base.py EnvType: ROBOSUITE_TYPE 1, GYM_TYPE 2, IG_MOMART_TYPE 3; env_utils
+        # get_env_class raises for any other. GYM_TYPE's EnvGym calls make(env_name, **env_kwargs).
+        assert env_meta["type"] == 2 and set(env_meta["env_kwargs"]) == {"control_mode"}
+        with gymnasium.make(env_meta["env_name"], address=dataset["address"], **env_meta["env_kwargs"]) as env:
+            assert env.unwrapped.control_mode == "pd_ee_pose_quat"
+        assert json.loads(data.attrs["contact_phases"])[0] == "approach"
         for name in demos:
             demo = data[name]
             n = demo.attrs["num_samples"]
@@ -126,6 +135,54 @@ def test_robomimic_hdf5_read_back(dataset):
             assert demo.attrs["scene"] in ("table", "kitchen") and demo.attrs["topology"]
         masks = {k: sorted(v.decode() for v in file[f"mask/{k}"][()]) for k in ("train", "valid")}
         assert sorted(masks["train"] + masks["valid"]) == demos and not set(masks["train"]) & set(masks["valid"])
+
+
+def test_libero_export_read_as_libero_loads_it(dataset, tmp_path):
+    out = export_libero(dataset["root"], tmp_path / "libero")
+    files = sorted(out.glob("*_demo.hdf5"))
+    recorded = {json.dumps(meta["instructions"]): steps for _, meta, steps in iter_episodes(dataset["root"])}
+    demos_read = 0
+    for path in files:
+        with h5py.File(path, "r") as f:
+            # libero/libero/utils/dataset_utils.py get_dataset_info: demos in episode order, the language
+            demos = sorted(f["data"].keys())
+            demos = [demos[i] for i in np.argsort([int(elem[5:]) for elem in demos])]
+            language = "".join(json.loads(f["data"].attrs["problem_info"])["language_instruction"])
+            assert path.name == language.lower().replace(" ", "_") + "_demo.hdf5"
+            assert json.loads(f["data"].attrs["env_args"])["type"] == 2
+            assert f["data"].attrs["num_demos"] == len(demos)
+            # robomimic's get_shape_metadata_from_dataset (LIBERO's get_dataset): the first demo's shapes
+            first = f["data"][list(f["data"].keys())[0]]
+            assert first["actions"].ndim == 2 and first["actions"].shape[1] == 7
+            shapes = {k: first[f"obs/{k}"].shape[1:] for k in ("agentview_rgb", "gripper_states", "joint_states",
+                                                                 "ee_states", "ee_pos", "ee_ori")}
+            assert shapes == {"agentview_rgb": (SIZE, SIZE, 3), "gripper_states": (2,), "joint_states": (7,),
+                              "ee_states": (6,), "ee_pos": (3,), "ee_ori": (3,)}
+            # SequenceDataset.load_demo_info: each demo's num_samples; data's total is their sum
+            assert f["data"].attrs["total"] == sum(f[f"data/{d}"].attrs["num_samples"] for d in demos)
+            for name in demos:
+                demo = f[f"data/{name}"]
+                steps = recorded[demo.attrs["instructions"]]
+                n = demo.attrs["num_samples"]
+                assert all(demo[k].shape[0] == n for k in ("actions", "states", "robot_states", "rewards", "dones"))
+                np.testing.assert_array_equal(demo["obs/agentview_rgb"][()], steps["obs/front_rgb"])
+                # scripts/create_dataset.py: ee_states = [eef pos, quat2axisangle(eef quat)], ee_pos, ee_ori its parts
+                quats = steps["obs/tcp_pose"][:, 3:7]
+                expected = [quat_xyzw_to_axis_angle(np.r_[q[1:], q[0]] * (1 if q[1] >= 0 else -1)) for q in quats]
+                np.testing.assert_allclose(demo["obs/ee_ori"][()], expected, atol=1e-6)
+                np.testing.assert_array_equal(demo["obs/ee_states"][()],
+                                              np.concatenate([demo["obs/ee_pos"][()], demo["obs/ee_ori"][()]], axis=1))
+                assert np.abs(np.diff(demo["obs/ee_ori"][()], axis=0)).max() < 0.5  # no flip at edge down
+                # OSC_POSE actions: delta / (0.05 m, 0.5 rad) in [-1, 1], gripper -1 (open)
+                actions = demo["actions"][()]
+                assert (np.abs(actions) <= 1.0).all() and (actions[:, 6] == -1.0).all()
+                delta = delta_ee_actions(steps, "pd_ee_pose_quat")
+                unclipped = (np.abs(delta[:, :3]) < 0.05).all(axis=1)
+                np.testing.assert_allclose(actions[unclipped, :3] * 0.05, delta[unclipped, :3], atol=1e-9)
+                # get_robot_state_vector: gripper qpos, eef pos, eef quaternion in robosuite's x, y, z, w
+                np.testing.assert_allclose(demo["robot_states"][:, 5:], np.roll(quats, -1, axis=1), atol=1e-9)
+                demos_read += 1
+    assert demos_read == 3
 
 
 def _jsonl(path: Path) -> list[dict]:

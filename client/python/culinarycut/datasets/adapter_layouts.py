@@ -33,6 +33,8 @@ RDT_UNIFIED_SLOTS = list(range(7)) + [30, 31, 32] + list(range(33, 39))
 RDT_STATE_NAMES = [f"right_arm_joint_{i}_pos_rad" for i in range(7)] + \
     ["right_eef_pos_x_m", "right_eef_pos_y_m", "right_eef_pos_z_m"] + [f"right_eef_angle_{i}" for i in range(6)]
 
+ROBOSUITE_OSC_UNIT_M = 0.05   # robosuite's OSC_POSE (LIBERO): output_max 0.05 m and 0.5 rad, input in [-1, 1]
+ROBOSUITE_OSC_UNIT_RAD = 0.5
 EE_DELTA_UNIT_M = 0.1    # pd_ee_delta_pose: 1 = 0.1 m (docs/robot.md)
 EE_DELTA_UNIT_RAD = 0.1  # and 0.1 rad
 GRIPPER_OPEN = 1.0
