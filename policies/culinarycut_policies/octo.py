@@ -13,6 +13,7 @@ from collections import deque
 import numpy as np
 
 from culinarycut_policies.actions import delta_to_ee_delta_pose, load_delta_ee_statistics
+from culinarycut_policies.control_rate import ModelRate
 from culinarycut_policies.chunking import OpenLoopChunks, TemporalEnsemble
 from culinarycut_policies.images import camera_rgb, octo_center_crop, squash_resize
 from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy
@@ -65,8 +66,8 @@ class OctoPolicy(RemotePolicy):
                  unnorm_key: str | None = None, camera: str = "front", wrist_camera: str | None = None,
                  camera_size: int = DEFAULT_CAMERA_SIZE, execution: str = "ensemble", exec_horizon: int = 1,
                  exp_weight: float = 0.0, window: int = WINDOW, action_horizon: int = PRED_HORIZON,
-                 action_units: str | None = None, crop_primary: bool = True, api_key: str | None = None,
-                 **transport):
+                 action_units: str | None = None, crop_primary: bool = True, model_rate_hz: float | None = None,
+                 api_key: str | None = None, **transport):
         super().__init__(url=url, **transport)
         self.stats, self.action_units = load_delta_ee_statistics(statistics, unnorm_key, action_units,
                                                                  policy=self.name, proprio=False)
@@ -80,12 +81,14 @@ class OctoPolicy(RemotePolicy):
                          else OpenLoopChunks(int(exec_horizon)))
         self.use_cameras(camera, wrist_camera, camera_size)
         self.crop_primary = bool(crop_primary)
+        self.rate = ModelRate(model_rate_hz, self.stats.key, self.name)
         self.history = OctoHistory(self.window)
         self.transport = OpenPIWebsocketClient(self.url, self.timeouts, api_key=api_key)
 
     def reset(self, instruction, info):
         self.history.reset()
         self.executor.reset()
+        self.rate.reset(info)
         super().reset(instruction, info)
 
     def check_metadata(self, metadata: dict) -> None:
@@ -113,7 +116,10 @@ class OctoPolicy(RemotePolicy):
         return {"observation": {k: v[None] for k, v in window.items()}, "prompt": self.instruction}
 
     def act(self, observation):
-        request = self.request(observation)  # every step: the history window moves with each observation
+        return self.rate.execute(self.model_action, observation)
+
+    def model_action(self, observation):
+        request = self.request(observation)  # every model step: its history window moves with it
         if self.executor.needs_chunk:
             reply = self.transport.infer(request)
             actions = np.asarray(reply.get("actions"))
