@@ -12,9 +12,9 @@ from collections import deque
 
 import numpy as np
 
-from culinarycut_policies.actions import delta_to_ee_delta_pose, load_delta_ee_statistics
-from culinarycut_policies.control_rate import ModelRate
+from culinarycut_policies.actions import delta_to_ee_delta_pose, load_delta_ee_statistics, resolve_rotation_delta
 from culinarycut_policies.chunking import OpenLoopChunks, TemporalEnsemble
+from culinarycut_policies.control_rate import ModelRate
 from culinarycut_policies.images import camera_rgb, octo_center_crop, squash_resize
 from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy
 from culinarycut_policies.statistics import unnormalize_normal
@@ -67,10 +67,12 @@ class OctoPolicy(RemotePolicy):
                  camera_size: int = DEFAULT_CAMERA_SIZE, execution: str = "ensemble", exec_horizon: int = 1,
                  exp_weight: float = 0.0, window: int = WINDOW, action_horizon: int = PRED_HORIZON,
                  action_units: str | None = None, crop_primary: bool = True, model_rate_hz: float | None = None,
+                 rotation_delta: str | None = None,
                  api_key: str | None = None, **transport):
         super().__init__(url=url, **transport)
         self.stats, self.action_units = load_delta_ee_statistics(statistics, unnorm_key, action_units,
                                                                  policy=self.name, proprio=False)
+        self.rotation_delta = resolve_rotation_delta(rotation_delta, self.action_units, self.name)
         self.window, self.action_horizon = int(window), int(action_horizon)
         if execution not in EXECUTIONS:
             raise ValueError(f"policy octo: option execution must be one of {EXECUTIONS}, got {execution!r}")
@@ -127,4 +129,4 @@ class OctoPolicy(RemotePolicy):
                 raise PolicyServerError(f"policy octo: expected actions (1, >={self.action_horizon}, D) from "
                                         f"{self.url}, got {actions.shape}")
             self.executor.add(unnormalize_normal(actions[0], self.stats.action))
-        return delta_to_ee_delta_pose(self.executor.next(), self.action_units)
+        return delta_to_ee_delta_pose(self.executor.next(), self.action_units, self.rotation_delta)

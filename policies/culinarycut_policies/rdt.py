@@ -10,9 +10,9 @@ in raw SI values as RDT's HDF5 fine-tune trains on them, or min/max-scaled as it
 (option normalization: rdt_normalization.py); the control
 frequency; the language as precomputed T5-XXL embeddings (1, L, 4096) (rdt_language.py reads
 scripts/encode_lang.py's .pt files), or the instruction text when no embeddings are given (the server
-must then encode it). The answer is (1, 64, 128): 64 future absolute
-states (un-normalised with the action min/max under normalization=bounds); their end-effector pose is executed as pd_ee_pose_quat,
-open loop, before the next query.
+must then encode it). The answer is (1, 64, 128): 64 future absolute states (un-normalised with the
+action min/max under normalization=bounds); their end-effector pose is executed as pd_ee_pose_quat, open
+loop, before the next query.
 """
 from __future__ import annotations
 

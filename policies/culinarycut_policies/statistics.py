@@ -2,10 +2,10 @@
 upstream models map between normalised and dataset units.
 
 Layout: {key: {"action": {"mean", "std", "min", "max", "q01", "q99", "mask"}, "proprio": {...},
-"num_transitions", "num_trajectories"}} (Octo's own files name q01, q99 p01, p99: read alike); `mask` (optional, default all true) marks the dimensions that
-are normalised at all (a gripper usually is not). CulinaryCut's export also writes, per key, what the
-values are (`action_layout`, `proprio_layout`, `action_units`; culinarycut/datasets/statistics.py):
-an adapter refuses a key whose layout is not the one it executes, and reads its units from there.
+"num_transitions", "num_trajectories"}} (Octo's own files name q01, q99 p01, p99: read alike); `mask`
+(optional, default all true) marks the dimensions that are normalised at all (a gripper usually is not).
+CulinaryCut's export also writes, per key, what the values are (`action_layout`, `proprio_layout`,
+`action_units`; culinarycut/datasets/statistics.py): an adapter refuses a key whose layout is not the one it executes, and reads its units from there.
 """
 from __future__ import annotations
 

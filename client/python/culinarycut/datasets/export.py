@@ -20,7 +20,8 @@ STATISTICS_NAME = "dataset_statistics.json"
 log = logging.getLogger(__name__)
 
 
-def export(root: Path, out: Path, formats: tuple[str, ...] = DEFAULT_FORMATS, name: str = "culinarycut") -> dict[str, Path]:
+def export(root: Path, out: Path, formats: tuple[str, ...] = DEFAULT_FORMATS,
+           name: str = "culinarycut") -> dict[str, Path]:
     unknown = set(formats) - set(FORMATS)
     if unknown:
         raise ValueError(f"unknown formats {sorted(unknown)}; choose from {', '.join(FORMATS)}")
