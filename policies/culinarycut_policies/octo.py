@@ -67,8 +67,7 @@ class OctoPolicy(RemotePolicy):
                  camera_size: int = DEFAULT_CAMERA_SIZE, execution: str = "ensemble", exec_horizon: int = 1,
                  exp_weight: float = 0.0, window: int = WINDOW, action_horizon: int = PRED_HORIZON,
                  action_units: str | None = None, crop_primary: bool = True, model_rate_hz: float | None = None,
-                 rotation_delta: str | None = None,
-                 api_key: str | None = None, **transport):
+                 rotation_delta: str | None = None, api_key: str | None = None, **transport):
         super().__init__(url=url, **transport)
         self.stats, self.action_units = load_delta_ee_statistics(statistics, unnorm_key, action_units,
                                                                  policy=self.name, proprio=False)

@@ -33,8 +33,7 @@ class OpenPIPolicy(RemotePolicy):
     def __init__(self, url: str = "ws://127.0.0.1:8000", camera: str = "front", wrist_camera: str | None = "wrist",
                  camera_size: int = DEFAULT_CAMERA_SIZE, replan_steps: int = REPLAN_STEPS,
                  state_dim: int = STATE_DIM, action_units: str = LIBERO_UNITS, model_rate_hz: float | None = None,
-                 rotation_delta: str | None = None,
-                 api_key: str | None = None, **transport):
+                 rotation_delta: str | None = None, api_key: str | None = None, **transport):
         super().__init__(url=url, **transport)
         self.action_units = resolve_action_units(None, action_units, self.name)
         self.rotation_delta = resolve_rotation_delta(rotation_delta, self.action_units, self.name)

@@ -7,8 +7,7 @@ does, then padded square and resized to 384 (the raw frames are kept between que
 only when a query is made); the state in
 the 128-D unified vector (configs/state_vec.py; the single arm in the right-arm slots) with its mask,
 in raw SI values as RDT's HDF5 fine-tune trains on them, or min/max-scaled as its ManiSkill fine-tune
-(option normalization: rdt_normalization.py); the control
-frequency; the language as precomputed T5-XXL embeddings (1, L, 4096) (rdt_language.py reads
+(option normalization: rdt_normalization.py); the control frequency; the language as precomputed T5-XXL embeddings (1, L, 4096) (rdt_language.py reads
 scripts/encode_lang.py's .pt files), or the instruction text when no embeddings are given (the server
 must then encode it). The answer is (1, 64, 128): 64 future absolute states (un-normalised with the
 action min/max under normalization=bounds); their end-effector pose is executed as pd_ee_pose_quat, open
@@ -23,9 +22,9 @@ from culinarycut_policies.actions import pose_to_ee_pose_quat, tcp_pose
 from culinarycut_policies.chunking import OpenLoopChunks
 from culinarycut_policies.images import camera_rgb, jpeg_roundtrip, pad_square_resize
 from culinarycut_policies.rdt_language import load_embeddings
+from culinarycut_policies.rdt_normalization import RDTNormalization
 from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy
 from culinarycut_policies.rotation import matrix_to_ortho6d, ortho6d_to_matrix, quat_wxyz_to_matrix
-from culinarycut_policies.rdt_normalization import RDTNormalization
 from culinarycut_policies.transports.faults import PolicyServerError
 from culinarycut_policies.transports.openpi_websocket import OpenPIWebsocketClient
 

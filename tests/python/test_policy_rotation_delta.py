@@ -6,6 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from culinarycut.datasets.export_libero import euler_xyz_to_axis_angle
+
 from culinarycut_policies.actions import delta_to_ee_delta_pose
 from culinarycut_policies.openpi import OpenPIPolicy
 from culinarycut_policies.standins.websocket_server import WebsocketPolicyServer
@@ -24,6 +26,8 @@ def test_axis_angle_delta_becomes_the_same_rotation_in_xyz_euler():
     np.testing.assert_allclose(values[3:], [3.0, 4.0, 0.0])
     _, single = delta_to_ee_delta_pose([0.0, 0.0, 0.0, 0.0, 0.0, 0.05], "metres_radians", "axis_angle")
     np.testing.assert_allclose(single[3:], [0.0, 0.0, 0.5], atol=1e-12)  # one axis: both conventions agree
+    # and back, as the LIBERO export writes its OSC actions
+    np.testing.assert_allclose(euler_xyz_to_axis_angle(EULER_OF_ROTVEC), [0.3, 0.4, 0.0], atol=1e-6)
 
 
 @pytest.mark.parametrize("option, expected", [(None, np.array(EULER_OF_ROTVEC) / 0.1), ("euler_xyz", [3.0, 4.0, 0.0])])

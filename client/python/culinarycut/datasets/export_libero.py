@@ -21,13 +21,13 @@ from pathlib import Path
 
 import h5py
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from culinarycut.datasets.adapter_layouts import (DELTA_MODES, ROBOSUITE_OSC_UNIT_M, ROBOSUITE_OSC_UNIT_RAD,
                                                   delta_ee_actions)
 from culinarycut.datasets.episodes import iter_episodes, scene_conditions
 from culinarycut.datasets.export_robomimic import GYM_ENV_NAME, robomimic_env_args
 from culinarycut.datasets.rotation_vector import tcp_rotation_vector
+from culinarycut.geometry import quat_from_axis_angle, quat_mul, quat_to_axis_angle
 
 GRIPPER_OPEN = -1.0  # robosuite's gripper action: -1 open, 1 closed
 CAMERA_KEYS = {"front": "agentview_rgb", "wrist": "eye_in_hand_rgb"}
@@ -37,9 +37,15 @@ def libero_actions(steps: dict, control_mode: str) -> np.ndarray:
     """(T, 7) OSC_POSE actions: the delta end-effector action (adapter_layouts.py, rotation as XYZ Euler
     angles of R_target R_tcp^T) with its rotation as an axis-angle, in OSC units, and an open gripper."""
     delta = delta_ee_actions(steps, control_mode)
-    rotvec = Rotation.from_euler("XYZ", delta[:, 3:6]).as_rotvec()  # intrinsic XYZ: R = Rx Ry Rz
+    rotvec = np.array([euler_xyz_to_axis_angle(angles) for angles in delta[:, 3:6]]).reshape(-1, 3)
     osc = np.concatenate([delta[:, :3] / ROBOSUITE_OSC_UNIT_M, rotvec / ROBOSUITE_OSC_UNIT_RAD], axis=1)
     return np.concatenate([np.clip(osc, -1.0, 1.0), np.full((len(osc), 1), GRIPPER_OPEN)], axis=1)
+
+
+def euler_xyz_to_axis_angle(angles) -> np.ndarray:
+    """The rotation R = Rx(a) Ry(b) Rz(c) as an axis-angle (the shorter way round)."""
+    x, y, z = (quat_from_axis_angle(np.eye(3)[i] * angle) for i, angle in enumerate(angles))
+    return quat_to_axis_angle(quat_mul(quat_mul(x, y), z))
 
 
 def libero_obs(steps: dict) -> dict[str, np.ndarray]:
