@@ -43,7 +43,8 @@ ADAPTERS = {
                     {"unnorm_key": example_statistics.DELTA_KEY, "execute_steps": 1}),
     "octo": (OctoPolicy, "octo", "websocket + msgpack", {"unnorm_key": example_statistics.DELTA_KEY,
                                                           "wrist_camera": "wrist"}),
-    "rdt": (RDTPolicy, "rdt", "websocket + msgpack", {"unnorm_key": example_statistics.RDT_KEY, "execute_steps": 1}),
+    "rdt": (RDTPolicy, "rdt", "websocket + msgpack", {"unnorm_key": example_statistics.RDT_KEY, "execute_steps": 1,
+                                                        "normalization": "bounds"}),
     "openpi": (OpenPIPolicy, "openpi", "websocket + msgpack", {"replan_steps": 1}),
 }
 

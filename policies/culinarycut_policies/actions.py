@@ -12,9 +12,13 @@ from __future__ import annotations
 
 import numpy as np
 from culinarycut.datasets.adapter_layouts import (ACTION_UNITS, DELTA_EE_ACTION, DELTA_EE_PROPRIO, EE_DELTA_UNIT_M,
-                                                  EE_DELTA_UNIT_RAD)
+                                                  EE_DELTA_UNIT_RAD, ROBOSUITE_OSC_UNIT_M, ROBOSUITE_OSC_UNIT_RAD,
+                                                  matrix_to_euler_xyz)
+from culinarycut.datasets.object_frame import quat_to_matrix
+from culinarycut.datasets.rotation_vector import tcp_rotation_vector
+from culinarycut.geometry import quat_from_axis_angle
 
-from culinarycut_policies.rotation import matrix_to_quat_wxyz, quat_wxyz_to_axis_angle
+from culinarycut_policies.rotation import matrix_to_quat_wxyz
 from culinarycut_policies.statistics import DatasetStatistics, StatisticsError, load_statistics, require_layout
 
 POSE_DIMS = 6          # x, y, z, roll, pitch, yaw deltas; a 7th (gripper) is dropped
@@ -22,8 +26,14 @@ POSE_DIMS = 6          # x, y, z, roll, pitch, yaw deltas; a 7th (gripper) is dr
 # ManiSkill's pd_ee_delta_pose (docs/robot.md); robosuite's OSC_POSE controller (LIBERO: output_max
 # 0.05 m and 0.5 rad, its input clipped to [-1, 1] first).
 UNIT_SCALES = {"metres_radians": (1.0, 1.0), "maniskill_normalised": (EE_DELTA_UNIT_M, EE_DELTA_UNIT_RAD),
-               "robosuite_osc": (0.05, 0.5)}
+               "robosuite_osc": (ROBOSUITE_OSC_UNIT_M, ROBOSUITE_OSC_UNIT_RAD)}
 CLIPPED_UNITS = ("robosuite_osc",)
+# How a delta's rotation is written: XYZ Euler angles (what pd_ee_delta_pose reads; CulinaryCut's export,
+# Bridge/OpenVLA) or an axis-angle (robosuite's OSC_POSE turns its delta into a rotation with
+# axisangle2quat: LIBERO-trained models). The default follows the units; option rotation_delta overrides.
+ROTATION_DELTAS = ("euler_xyz", "axis_angle")
+DEFAULT_ROTATION_DELTA = {"metres_radians": "euler_xyz", "maniskill_normalised": "euler_xyz",
+                          "robosuite_osc": "axis_angle"}
 assert set(UNIT_SCALES) == set(ACTION_UNITS)
 
 
@@ -58,16 +68,27 @@ def load_delta_ee_statistics(path: str | None, key: str | None, units_option: st
     return stats, resolve_action_units(stats, units_option, policy)
 
 
-def delta_to_ee_delta_pose(action: np.ndarray, units: str) -> tuple[str, np.ndarray]:
-    """A model's delta end-effector action [dx, dy, dz, droll, dpitch, dyaw, gripper...] in the root frame,
-    in `units` (UNIT_SCALES), as pd_ee_delta_pose values (1 = 0.1 m, 0.1 rad). The server clips each
-    translation to +-0.1 m and the rotation vector to 0.1 rad per step."""
+def resolve_rotation_delta(option: str | None, units: str, policy: str) -> str:
+    if option is not None and option not in ROTATION_DELTAS:
+        raise ValueError(f"policy {policy!r}: option rotation_delta={option!r}; choose one of "
+                         f"{', '.join(ROTATION_DELTAS)}")
+    return option or DEFAULT_ROTATION_DELTA[units]
+
+
+def delta_to_ee_delta_pose(action: np.ndarray, units: str, rotation: str = "euler_xyz") -> tuple[str, np.ndarray]:
+    """A model's delta end-effector action [dx, dy, dz, rotation (3), gripper...] in the root frame, in
+    `units` (UNIT_SCALES), its rotation as XYZ Euler angles or an axis-angle (`rotation`), as
+    pd_ee_delta_pose values (1 = 0.1 m, 0.1 rad, XYZ Euler). The server clips each translation to
+    +-0.1 m and the rotation vector to 0.1 rad per step."""
     action = np.asarray(action, dtype=np.float64).reshape(-1)
     if action.size < POSE_DIMS:
         raise ValueError(f"a delta end-effector action needs at least {POSE_DIMS} values, got {action.size}")
     pose = np.clip(action[:POSE_DIMS], -1.0, 1.0) if units in CLIPPED_UNITS else action[:POSE_DIMS]
     metres, radians = UNIT_SCALES[units]
-    values = np.concatenate([pose[:3] * (metres / EE_DELTA_UNIT_M), pose[3:] * (radians / EE_DELTA_UNIT_RAD)])
+    turn = pose[3:] * radians
+    if rotation == "axis_angle":
+        turn = matrix_to_euler_xyz(quat_to_matrix(quat_from_axis_angle(turn)))
+    values = np.concatenate([pose[:3] * (metres / EE_DELTA_UNIT_M), turn / EE_DELTA_UNIT_RAD])
     return "pd_ee_delta_pose", values
 
 
@@ -83,9 +104,10 @@ def tcp_pose(observation: dict) -> tuple[np.ndarray, np.ndarray]:
 
 
 def tcp_position_axis_angle(observation: dict) -> np.ndarray:
-    """[x, y, z, rx, ry, rz]: LIBERO's eef state (position and rotation vector), the knife's TCP."""
+    """[x, y, z, rx, ry, rz]: LIBERO's eef state (position and rotation vector), the knife's TCP; the same
+    rotation vector as the export's proprio (continuous through edge down: rotation_vector.py)."""
     position, quaternion = tcp_pose(observation)
-    return np.concatenate([position, quat_wxyz_to_axis_angle(quaternion)])
+    return np.concatenate([position, tcp_rotation_vector(quaternion)])
 
 
 def pad_state(state: np.ndarray, dim: int) -> np.ndarray:

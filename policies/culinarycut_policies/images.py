@@ -1,8 +1,8 @@
 """Image preprocessing as each upstream model saw it in training, without TensorFlow: squash resizes with
 an antialiased Lanczos-3 (the filter tf.image.resize(method="lanczos3", antialias=True) uses; PIL's
 rounding differs, so pixels may differ by a level or so: not tested against TF), TF's
-crop_and_resize for the 0.9-area centre crop, the JPEG round trip of OpenVLA's evaluation, openpi's
-resize-with-pad and RDT's pad-to-square.
+crop_and_resize for OpenVLA's and Octo's 0.9-area centre crops, the JPEG round trip of OpenVLA's
+evaluation, openpi's resize-with-pad and RDT's pad-to-square.
 Every function takes and returns HxWx3 uint8."""
 from __future__ import annotations
 
@@ -38,21 +38,35 @@ def squash_resize(image: np.ndarray, height: int, width: int) -> np.ndarray:
 
 
 # OpenVLA's crop_and_resize (experiments/robot/openvla_utils.py): a centre box of `area_fraction` of the
-# image (sides scaled by sqrt), sampled bilinearly back to (height, width) at TF's sample positions
-# y = y1 (H - 1) + i (y2 - y1) (H - 1) / (h - 1), in float [0, 1] and converted back as TF does.
+# image (sides scaled by sqrt), sampled bilinearly back to (height, width) in float [0, 1] and converted
+# back as TF does.
 def center_crop_resize(image: np.ndarray, area_fraction: float, height: int, width: int) -> np.ndarray:
     image = check_rgb(image, "image")
+    sampled = _crop_and_resize(image.astype(np.float32) / 255.0, area_fraction, height, width)
+    # tf.image.convert_image_dtype(float -> uint8, saturate=True): scale by 255.5 and truncate.
+    return (np.clip(sampled, 0.0, 1.0) * 255.5).astype(np.uint8)
+
+
+# Octo's ResizeImageWrapper (octo/utils/gym_wrappers.py) on its augmented keys (image_primary): the
+# average of training's random_resized_crop, a centre box of avg_scale 0.9 of the area, crop_and_resize on
+# the 0-255 float image back to its size, then tf.round (half to even) and clipped to uint8.
+def octo_center_crop(image: np.ndarray, area_fraction: float = 0.9) -> np.ndarray:
+    image = check_rgb(image, "image")
+    sampled = _crop_and_resize(image.astype(np.float32), area_fraction, *image.shape[:2])
+    return np.clip(np.round(sampled), 0, 255).astype(np.uint8)
+
+
+def _crop_and_resize(source: np.ndarray, area_fraction: float, height: int, width: int) -> np.ndarray:
+    """tf.image.crop_and_resize with the centre box of `area_fraction`: TF's sample positions
+    y = y1 (H - 1) + i (y2 - y1) (H - 1) / (h - 1), bilinear."""
     if not 0.0 < area_fraction <= 1.0:
         raise ValueError(f"crop area fraction must be in (0, 1], got {area_fraction}")
     side = float(np.sqrt(np.float32(area_fraction)))
     offset = (1.0 - side) / 2.0
-    source = image.astype(np.float32) / 255.0
-    in_h, in_w = image.shape[:2]
+    in_h, in_w = source.shape[:2]
     ys = _sample_positions(offset, offset + side, in_h, height)
     xs = _sample_positions(offset, offset + side, in_w, width)
-    sampled = _bilinear(source, ys, xs)
-    # tf.image.convert_image_dtype(float -> uint8, saturate=True): scale by 255.5 and truncate.
-    return (np.clip(sampled, 0.0, 1.0) * 255.5).astype(np.uint8)
+    return _bilinear(source, ys, xs)
 
 
 def _sample_positions(start: float, end: float, size_in: int, size_out: int) -> np.ndarray:

@@ -1,5 +1,6 @@
 """Octo through an openpi-protocol server (policies/servers/serve_octo.py): `image_primary` 256 x 256 and
-`image_wrist` 128 x 128 (Lanczos squash, as Octo's ResizeImageWrapper), a history window of 2 with
+`image_wrist` 128 x 128 (Lanczos squash, as Octo's ResizeImageWrapper, which also centre-crops
+`image_primary` to 0.9 of its area and resizes it back: option crop_primary), a history window of 2 with
 `timestep_pad_mask` (octo/utils/gym_wrappers.py HistoryWrapper), batch dimension first. The server
 answers normalised action chunks (1, 4, 7) (sample_actions without statistics; a server whose metadata
 says `normalized_actions` false is refused); they are un-normalised
@@ -11,9 +12,10 @@ from collections import deque
 
 import numpy as np
 
-from culinarycut_policies.actions import delta_to_ee_delta_pose, load_delta_ee_statistics
+from culinarycut_policies.actions import delta_to_ee_delta_pose, load_delta_ee_statistics, resolve_rotation_delta
 from culinarycut_policies.chunking import OpenLoopChunks, TemporalEnsemble
-from culinarycut_policies.images import camera_rgb, squash_resize
+from culinarycut_policies.control_rate import ModelRate
+from culinarycut_policies.images import camera_rgb, octo_center_crop, squash_resize
 from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy
 from culinarycut_policies.statistics import unnormalize_normal
 from culinarycut_policies.transports.faults import PolicyServerError
@@ -23,6 +25,7 @@ PRIMARY_SIZE = 256
 WRIST_SIZE = 128
 WINDOW = 2          # octo-base-1.5's window size (option window)
 PRED_HORIZON = 4    # its action head's chunk (option action_horizon)
+CROP_AREA = 0.9     # octo/utils/gym_wrappers.py ResizeImageWrapper avg_scale, on image_primary
 EXECUTIONS = ("ensemble", "receding")
 
 
@@ -63,10 +66,12 @@ class OctoPolicy(RemotePolicy):
                  unnorm_key: str | None = None, camera: str = "front", wrist_camera: str | None = None,
                  camera_size: int = DEFAULT_CAMERA_SIZE, execution: str = "ensemble", exec_horizon: int = 1,
                  exp_weight: float = 0.0, window: int = WINDOW, action_horizon: int = PRED_HORIZON,
-                 action_units: str | None = None, api_key: str | None = None, **transport):
+                 action_units: str | None = None, crop_primary: bool = True, model_rate_hz: float | None = None,
+                 rotation_delta: str | None = None, api_key: str | None = None, **transport):
         super().__init__(url=url, **transport)
         self.stats, self.action_units = load_delta_ee_statistics(statistics, unnorm_key, action_units,
                                                                  policy=self.name, proprio=False)
+        self.rotation_delta = resolve_rotation_delta(rotation_delta, self.action_units, self.name)
         self.window, self.action_horizon = int(window), int(action_horizon)
         if execution not in EXECUTIONS:
             raise ValueError(f"policy octo: option execution must be one of {EXECUTIONS}, got {execution!r}")
@@ -76,12 +81,15 @@ class OctoPolicy(RemotePolicy):
         self.executor = (TemporalEnsemble(self.action_horizon, exp_weight) if execution == "ensemble"
                          else OpenLoopChunks(int(exec_horizon)))
         self.use_cameras(camera, wrist_camera, camera_size)
+        self.crop_primary = bool(crop_primary)
+        self.rate = ModelRate(model_rate_hz, self.stats.key, self.name)
         self.history = OctoHistory(self.window)
         self.transport = OpenPIWebsocketClient(self.url, self.timeouts, api_key=api_key)
 
     def reset(self, instruction, info):
         self.history.reset()
         self.executor.reset()
+        self.rate.reset(info)
         super().reset(instruction, info)
 
     def check_metadata(self, metadata: dict) -> None:
@@ -97,7 +105,8 @@ class OctoPolicy(RemotePolicy):
                                         f"set option {option}={metadata[option]}")
 
     def frame(self, observation: dict) -> dict:
-        frame = {"image_primary": squash_resize(camera_rgb(observation, self.camera), PRIMARY_SIZE, PRIMARY_SIZE)}
+        primary = squash_resize(camera_rgb(observation, self.camera), PRIMARY_SIZE, PRIMARY_SIZE)
+        frame = {"image_primary": octo_center_crop(primary, CROP_AREA) if self.crop_primary else primary}
         if self.wrist_camera:
             frame["image_wrist"] = squash_resize(camera_rgb(observation, self.wrist_camera), WRIST_SIZE, WRIST_SIZE)
         return frame
@@ -108,7 +117,10 @@ class OctoPolicy(RemotePolicy):
         return {"observation": {k: v[None] for k, v in window.items()}, "prompt": self.instruction}
 
     def act(self, observation):
-        request = self.request(observation)  # every step: the history window moves with each observation
+        return self.rate.execute(self.model_action, observation)
+
+    def model_action(self, observation):
+        request = self.request(observation)  # every model step: its history window moves with it
         if self.executor.needs_chunk:
             reply = self.transport.infer(request)
             actions = np.asarray(reply.get("actions"))
@@ -116,4 +128,4 @@ class OctoPolicy(RemotePolicy):
                 raise PolicyServerError(f"policy octo: expected actions (1, >={self.action_horizon}, D) from "
                                         f"{self.url}, got {actions.shape}")
             self.executor.add(unnormalize_normal(actions[0], self.stats.action))
-        return delta_to_ee_delta_pose(self.executor.next(), self.action_units)
+        return delta_to_ee_delta_pose(self.executor.next(), self.action_units, self.rotation_delta)

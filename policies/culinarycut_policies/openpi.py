@@ -10,9 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from culinarycut_policies.actions import resolve_action_units
-from culinarycut_policies.actions import delta_to_ee_delta_pose, pad_state, tcp_position_axis_angle
+from culinarycut_policies.actions import (delta_to_ee_delta_pose, pad_state, resolve_action_units,
+                                          resolve_rotation_delta, tcp_position_axis_angle)
 from culinarycut_policies.chunking import OpenLoopChunks
+from culinarycut_policies.control_rate import ModelRate
 from culinarycut_policies.images import camera_rgb, resize_with_pad
 from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy
 from culinarycut_policies.transports.faults import PolicyServerError
@@ -31,17 +32,20 @@ class OpenPIPolicy(RemotePolicy):
 
     def __init__(self, url: str = "ws://127.0.0.1:8000", camera: str = "front", wrist_camera: str | None = "wrist",
                  camera_size: int = DEFAULT_CAMERA_SIZE, replan_steps: int = REPLAN_STEPS,
-                 state_dim: int = STATE_DIM, action_units: str = LIBERO_UNITS, api_key: str | None = None,
-                 **transport):
+                 state_dim: int = STATE_DIM, action_units: str = LIBERO_UNITS, model_rate_hz: float | None = None,
+                 rotation_delta: str | None = None, api_key: str | None = None, **transport):
         super().__init__(url=url, **transport)
         self.action_units = resolve_action_units(None, action_units, self.name)
+        self.rotation_delta = resolve_rotation_delta(rotation_delta, self.action_units, self.name)
         self.use_cameras(camera, wrist_camera, camera_size)
         self.chunks = OpenLoopChunks(int(replan_steps))
+        self.rate = ModelRate(model_rate_hz, None, self.name)
         self.state_dim = int(state_dim)
         self.transport = OpenPIWebsocketClient(self.url, self.timeouts, api_key=api_key)
 
     def reset(self, instruction, info):
         self.chunks.reset()
+        self.rate.reset(info)
         super().reset(instruction, info)
 
     def request(self, observation: dict) -> dict:
@@ -54,10 +58,13 @@ class OpenPIPolicy(RemotePolicy):
         return request
 
     def act(self, observation):
+        return self.rate.execute(self.model_action, observation)
+
+    def model_action(self, observation):
         if self.chunks.needs_chunk:
             reply = self.transport.infer(self.request(observation))
             actions = np.asarray(reply.get("actions"))
             if actions.ndim != 2:
                 raise PolicyServerError(f"policy openpi: expected `actions` (H, D) from {self.url}, got {actions.shape}")
             self.chunks.add(actions)
-        return delta_to_ee_delta_pose(self.chunks.next(), self.action_units)
+        return delta_to_ee_delta_pose(self.chunks.next(), self.action_units, self.rotation_delta)

@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from culinarycut_policies.actions import delta_to_ee_delta_pose, load_delta_ee_statistics
+from culinarycut_policies.actions import delta_to_ee_delta_pose, load_delta_ee_statistics, resolve_rotation_delta
+from culinarycut_policies.control_rate import ModelRate
 from culinarycut_policies.images import camera_rgb, center_crop_resize, jpeg_roundtrip, squash_resize
 from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy
 from culinarycut_policies.transports.faults import PolicyServerError
@@ -57,10 +58,13 @@ class OpenVLAPolicy(RemotePolicy):
     def __init__(self, url: str = "http://127.0.0.1:8000", statistics: str | None = None,
                  unnorm_key: str | None = None, camera: str = "front", camera_size: int = DEFAULT_CAMERA_SIZE,
                  center_crop: bool = False, jpeg: bool = True, check_bounds: bool = True,
-                 action_units: str | None = None, **transport):
+                 action_units: str | None = None, model_rate_hz: float | None = None,
+                 rotation_delta: str | None = None, **transport):
         super().__init__(url=url, **transport)
         self.stats, self.action_units = load_delta_ee_statistics(statistics, unnorm_key, action_units,
                                                                  policy=self.name, proprio=False)
+        self.rotation_delta = resolve_rotation_delta(rotation_delta, self.action_units, self.name)
+        self.rate = ModelRate(model_rate_hz, self.stats.key, self.name)
         self.use_cameras(camera, None, camera_size)
         self.center_crop = bool(center_crop)
         self.jpeg = bool(jpeg)
@@ -72,7 +76,14 @@ class OpenVLAPolicy(RemotePolicy):
         image = openvla_image(camera_rgb(observation, self.camera), self.center_crop, self.jpeg)
         return {"image": image, "instruction": self.instruction, "unnorm_key": self.stats.key}
 
+    def reset(self, instruction, info):
+        self.rate.reset(info)
+        super().reset(instruction, info)
+
     def act(self, observation):
+        return self.rate.execute(self.model_action, observation)
+
+    def model_action(self, observation):
         action = np.asarray(self.transport.query(self.request(observation)), dtype=np.float64).reshape(-1)
         stats = self.stats.action
         if action.shape != (stats.dim,):
@@ -80,4 +91,4 @@ class OpenVLAPolicy(RemotePolicy):
                                     f"{self.stats.key!r} have {stats.dim}")
         if self.check_bounds:
             check_in_bounds(action, stats.q01, stats.q99, stats.mask, f"OpenVLA server {self.transport.url}")
-        return delta_to_ee_delta_pose(action, self.action_units)
+        return delta_to_ee_delta_pose(action, self.action_units, self.rotation_delta)

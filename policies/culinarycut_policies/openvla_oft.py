@@ -9,8 +9,9 @@ from __future__ import annotations
 import numpy as np
 
 from culinarycut_policies.actions import (delta_to_ee_delta_pose, load_delta_ee_statistics, pad_state,
-                                          tcp_position_axis_angle)
+                                          resolve_rotation_delta, tcp_position_axis_angle)
 from culinarycut_policies.chunking import OpenLoopChunks
+from culinarycut_policies.control_rate import ModelRate
 from culinarycut_policies.images import camera_rgb
 from culinarycut_policies.openvla import openvla_image
 from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy
@@ -29,19 +30,23 @@ class OpenVLAOFTPolicy(RemotePolicy):
     def __init__(self, url: str = "http://127.0.0.1:8777", statistics: str | None = None,
                  unnorm_key: str | None = None, camera: str = "front", wrist_camera: str | None = "wrist",
                  camera_size: int = DEFAULT_CAMERA_SIZE, execute_steps: int = CHUNK_STEPS,
-                 action_units: str | None = None, **transport):
+                 action_units: str | None = None, model_rate_hz: float | None = None,
+                 rotation_delta: str | None = None, **transport):
         super().__init__(url=url, **transport)
         self.stats, self.action_units = load_delta_ee_statistics(statistics, unnorm_key, action_units,
                                                                  policy=self.name, proprio=True)
+        self.rotation_delta = resolve_rotation_delta(rotation_delta, self.action_units, self.name)
         if self.stats.proprio is None:
             raise StatisticsError(f"policy {self.name!r}: the statistics of {self.stats.key!r} have no 'proprio'; "
                                   "OpenVLA-OFT normalises its `state` with them")
+        self.rate = ModelRate(model_rate_hz, self.stats.key, self.name)
         self.use_cameras(camera, wrist_camera, camera_size)
         self.chunks = OpenLoopChunks(execute_steps)
         self.transport = JsonNumpyRestClient(self.url, self.timeouts)
 
     def reset(self, instruction, info):
         self.chunks.reset()
+        self.rate.reset(info)
         super().reset(instruction, info)
 
     def request(self, observation: dict) -> dict:
@@ -54,6 +59,9 @@ class OpenVLAOFTPolicy(RemotePolicy):
         return payload
 
     def act(self, observation):
+        return self.rate.execute(self.model_action, observation)
+
+    def model_action(self, observation):
         if self.chunks.needs_chunk:
             reply = self.transport.query(self.request(observation))
             chunk = np.asarray(reply, dtype=np.float64)
@@ -61,4 +69,4 @@ class OpenVLAOFTPolicy(RemotePolicy):
                 raise PolicyServerError(f"OpenVLA-OFT server answered shape {chunk.shape}; expected a list of "
                                         f"{self.stats.action.dim}-D actions (the statistics of {self.stats.key!r})")
             self.chunks.add(chunk)
-        return delta_to_ee_delta_pose(self.chunks.next(), self.action_units)
+        return delta_to_ee_delta_pose(self.chunks.next(), self.action_units, self.rotation_delta)

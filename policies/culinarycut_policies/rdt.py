@@ -6,26 +6,25 @@ scripts/agilex_inference.py starts its window), each JPEG round-tripped as that 
 does, then padded square and resized to 384 (the raw frames are kept between queries and processed
 only when a query is made); the state in
 the 128-D unified vector (configs/state_vec.py; the single arm in the right-arm slots) with its mask,
-normalised with the statistics' proprio min/max as scripts/maniskill_model.py does; the control
-frequency; the language as precomputed T5-XXL embeddings (1, L, 4096) (rdt_language.py reads
+in raw SI values as RDT's HDF5 fine-tune trains on them, or min/max-scaled as its ManiSkill fine-tune
+(option normalization: rdt_normalization.py); the control frequency; the language as precomputed T5-XXL embeddings (1, L, 4096) (rdt_language.py reads
 scripts/encode_lang.py's .pt files), or the instruction text when no embeddings are given (the server
-must then encode it). The answer is (1, 64, 128): 64 future absolute
-states, un-normalised with the action min/max; their end-effector pose is executed as pd_ee_pose_quat,
-open loop, before the next query.
+must then encode it). The answer is (1, 64, 128): 64 future absolute states (un-normalised with the
+action min/max under normalization=bounds); their end-effector pose is executed as pd_ee_pose_quat, open
+loop, before the next query.
 """
 from __future__ import annotations
 
 import numpy as np
-from culinarycut.datasets.adapter_layouts import RDT_STATE
+from culinarycut.datasets.adapter_layouts import RDT_UNIFIED_SLOTS
 
 from culinarycut_policies.actions import pose_to_ee_pose_quat, tcp_pose
 from culinarycut_policies.chunking import OpenLoopChunks
 from culinarycut_policies.images import camera_rgb, jpeg_roundtrip, pad_square_resize
 from culinarycut_policies.rdt_language import load_embeddings
+from culinarycut_policies.rdt_normalization import RDTNormalization
 from culinarycut_policies.remote_policy import DEFAULT_CAMERA_SIZE, RemotePolicy
 from culinarycut_policies.rotation import matrix_to_ortho6d, ortho6d_to_matrix, quat_wxyz_to_matrix
-from culinarycut_policies.statistics import (StatisticsError, load_statistics, normalize_bounds, require_layout,
-                                             unnormalize_bounds)
 from culinarycut_policies.transports.faults import PolicyServerError
 from culinarycut_policies.transports.openpi_websocket import OpenPIWebsocketClient
 
@@ -33,13 +32,9 @@ UNIFIED_DIM = 128
 IMAGE_SIZE = 384
 CHUNK_STEPS = 64
 CONTROL_FREQUENCY_HZ = 25.0  # RDT's own robot; CulinaryCut's rate comes from the episode
-# Our 16 values in the unified vector: Panda joints 0-6 (right_arm_joint_i_pos), the TCP position
-# (right_eef_pos_x..z, 30-32) and its 6-D rotation (right_eef_angle_0..5, 33-38). Slot 10 (right gripper)
-# stays out of the mask: the knife has none.
-JOINT_SLOTS = list(range(7))
-EEF_POSITION_SLOTS = [30, 31, 32]
-EEF_ROTATION_SLOTS = list(range(33, 39))
-STATE_SLOTS = JOINT_SLOTS + EEF_POSITION_SLOTS + EEF_ROTATION_SLOTS
+# Our 16 values in the unified vector (the export's layout): Panda joints, TCP position, 6-D rotation.
+STATE_SLOTS = RDT_UNIFIED_SLOTS
+JOINTS = 7
 
 
 def robot_state(observation: dict) -> np.ndarray:
@@ -74,17 +69,9 @@ class RDTPolicy(RemotePolicy):
                  unnorm_key: str | None = None, camera: str = "front", wrist_camera: str | None = "wrist",
                  camera_size: int = DEFAULT_CAMERA_SIZE, execute_steps: int = CHUNK_STEPS,
                  control_frequency: float | None = None, language_embeddings: str | None = None,
-                 api_key: str | None = None, **transport):
+                 normalization: str = "none", api_key: str | None = None, **transport):
         super().__init__(url=url, **transport)
-        self.stats = load_statistics(statistics, unnorm_key, policy=self.name, action_layout=RDT_STATE)
-        require_layout(self.stats, policy=self.name, action_layout=RDT_STATE, proprio_layout=RDT_STATE,
-                       hint=" (`culinarycut data export` writes it under the key NAME_rdt: option unnorm_key)")
-        if self.stats.proprio is None:
-            raise StatisticsError(f"policy rdt: the statistics of {self.stats.key!r} have no 'proprio'")
-        for what, entry in (("proprio", self.stats.proprio), ("action", self.stats.action)):
-            if entry.dim != len(STATE_SLOTS):
-                raise StatisticsError(f"policy rdt: {what} statistics of {self.stats.key!r} have {entry.dim} values; "
-                                      f"RDT's layout here has {len(STATE_SLOTS)} (7 joints, TCP xyz, 6-D rotation)")
+        self.normalization = RDTNormalization(normalization, statistics, unnorm_key)
         self.use_cameras(camera, wrist_camera, camera_size)
         self.chunks = OpenLoopChunks(int(execute_steps))
         self.fixed_frequency = None if control_frequency is None else float(control_frequency)
@@ -123,7 +110,7 @@ class RDTPolicy(RemotePolicy):
         return six
 
     def request(self, observation: dict) -> dict:
-        state, mask = to_unified(normalize_bounds(robot_state(observation), self.stats.proprio))
+        state, mask = to_unified(self.normalization.state(robot_state(observation)))
         request = {"images": self.images(observation), "state": state, "state_elem_mask": mask,
                    "ctrl_freq": np.float32(self.control_frequency)}
         if self.embeddings:
@@ -139,10 +126,10 @@ class RDTPolicy(RemotePolicy):
             if actions.shape[:1] != (1,) or actions.ndim != 3 or actions.shape[2] != UNIFIED_DIM:
                 raise PolicyServerError(f"policy rdt: expected actions (1, H, {UNIFIED_DIM}) from {self.url}, "
                                         f"got {actions.shape}")
-            self.chunks.add(unnormalize_bounds(actions[0][:, STATE_SLOTS], self.stats.action))
+            self.chunks.add(self.normalization.action(actions[0][:, STATE_SLOTS]))
         else:
             self.previous_frames = self.frames(observation)  # the t-1 frames of the next query
         target = self.chunks.next()
-        position = target[len(JOINT_SLOTS):len(JOINT_SLOTS) + 3]
-        rotation = ortho6d_to_matrix(target[len(JOINT_SLOTS) + 3:])
+        position = target[JOINTS:JOINTS + 3]
+        rotation = ortho6d_to_matrix(target[JOINTS + 3:])
         return pose_to_ee_pose_quat(position, rotation)

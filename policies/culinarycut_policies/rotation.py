@@ -1,5 +1,6 @@
-"""Rotations between CulinaryCut's wxyz quaternions and what the models use: rotation matrices, RDT's 6-D
-representation (the first two columns of R) and rotation vectors (axis-angle)."""
+"""Rotations between CulinaryCut's wxyz quaternions and what the models use: rotation matrices and RDT's 6-D
+representation (the first two columns of R). The state's rotation vector is in culinarycut.datasets.rotation_vector,
+shared with the export."""
 from __future__ import annotations
 
 import numpy as np
@@ -50,14 +51,3 @@ def ortho6d_to_matrix(ortho6d) -> np.ndarray:
     y = np.cross(z, x)
     return np.stack([x, y, z], axis=-1)
 
-
-def quat_wxyz_to_axis_angle(quaternion) -> np.ndarray:
-    """Rotation vector (rad); the shorter way round (angle in [0, pi])."""
-    q = np.asarray(quaternion, dtype=np.float64) / np.linalg.norm(quaternion)
-    if q[0] < 0:
-        q = -q
-    sin_half = np.linalg.norm(q[1:])
-    if sin_half < 1e-12:
-        return 2.0 * q[1:]
-    angle = 2.0 * np.arctan2(sin_half, q[0])
-    return q[1:] / sin_half * angle

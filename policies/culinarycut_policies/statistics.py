@@ -2,10 +2,10 @@
 upstream models map between normalised and dataset units.
 
 Layout: {key: {"action": {"mean", "std", "min", "max", "q01", "q99", "mask"}, "proprio": {...},
-"num_transitions", "num_trajectories"}}; `mask` (optional, default all true) marks the dimensions that
-are normalised at all (a gripper usually is not). CulinaryCut's export also writes, per key, what the
-values are (`action_layout`, `proprio_layout`, `action_units`; culinarycut/datasets/statistics.py):
-an adapter refuses a key whose layout is not the one it executes, and reads its units from there.
+"num_transitions", "num_trajectories"}} (Octo's own files name q01, q99 p01, p99: read alike); `mask`
+(optional, default all true) marks the dimensions that are normalised at all (a gripper usually is not).
+CulinaryCut's export also writes, per key, what the values are (`action_layout`, `proprio_layout`,
+`action_units`; culinarycut/datasets/statistics.py): an adapter refuses a key whose layout is not the one it executes, and reads its units from there.
 """
 from __future__ import annotations
 
@@ -16,6 +16,8 @@ from pathlib import Path
 import numpy as np
 
 FIELDS = ("mean", "std", "min", "max", "q01", "q99")
+# Octo's get_dataset_statistics (octo/data/utils/data_utils.py) writes the same quantiles as p01, p99.
+OCTO_QUANTILES = {"q01": "p01", "q99": "p99"}
 
 
 class StatisticsError(ValueError):
@@ -39,10 +41,25 @@ class Statistics:
         return int(self.mean.shape[0])
 
 
+def _quantiles_by_our_names(raw: dict, where: str) -> dict:
+    """q01/q99 taken from Octo's p01/p99 where a file has only those; both names must then agree."""
+    raw = dict(raw)
+    for ours, octos in OCTO_QUANTILES.items():
+        if octos not in raw:
+            continue
+        if ours in raw and not np.array_equal(np.asarray(raw[ours], dtype=np.float64),
+                                              np.asarray(raw[octos], dtype=np.float64)):
+            raise StatisticsError(f"{where} has both {ours} and {octos}, and they differ")
+        raw.setdefault(ours, raw[octos])
+    return raw
+
+
 def _entry(raw: dict, where: str) -> Statistics:
+    raw = _quantiles_by_our_names(raw, where)
     missing = [f for f in FIELDS if f not in raw]
     if missing:
-        raise StatisticsError(f"{where} lacks {', '.join(missing)} (needs {', '.join(FIELDS)}, optional mask)")
+        raise StatisticsError(f"{where} lacks {', '.join(missing)} (needs {', '.join(FIELDS)}, or Octo's p01, "
+                              "p99 for q01, q99; optional mask)")
     values = {f: np.asarray(raw[f], dtype=np.float64) for f in FIELDS}
     dim = values["mean"].shape
     if len(dim) != 1 or any(v.shape != dim for v in values.values()):

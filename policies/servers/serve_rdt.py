@@ -9,7 +9,7 @@ in CI.
     cd RoboticsDiffusionTransformer && python /path/to/policies/servers/serve_rdt.py \
         --config configs/base.yaml --checkpoint robotics-diffusion-transformer/rdt-1b --port 8000
     culinarycut bench run smoke --policy rdt --policy-url ws://GPU_HOST:8000 \
-        --policy-option statistics=stats.json --policy-option language_embeddings=instructions.npz
+        --policy-option language_embeddings=instructions.npz
 """
 from __future__ import annotations
 

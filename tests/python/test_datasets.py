@@ -7,6 +7,7 @@ the writer's HDF5 handles."""
 from __future__ import annotations
 
 import dataclasses
+import io
 import json
 import shutil
 from pathlib import Path
@@ -15,14 +16,23 @@ import cv2
 import duckdb
 import h5py
 import numpy as np
+import gymnasium
 import pytest
+from PIL import Image
+
+import rdt_reader
 from culinarycut import Client
+from culinarycut.datasets.adapter_layouts import RDT_UNIFIED_SLOTS, delta_ee_actions, rdt_states
 from culinarycut.datasets.demo import load_demonstration
 from culinarycut.datasets.demo_from_oracle import record_oracle_demonstration
 from culinarycut.datasets.episode_file import read_episode, write_episode
+from culinarycut.datasets.episodes import iter_episodes
 from culinarycut.datasets.export import export
+from culinarycut.datasets.export_libero import export_libero
+from culinarycut.datasets.export_rdt import export_rdt
 from culinarycut.datasets.generate import generate, run_job
 from culinarycut.datasets.jobs import DatasetConfig, Randomisation, draw_variation, job_scene, make_jobs
+from culinarycut.datasets.rotation_vector import quat_xyzw_to_axis_angle
 from culinarycut.datasets.store import GenerationStore
 from culinarycut.datasets.verify import verify
 
@@ -101,7 +111,13 @@ def test_robomimic_hdf5_read_back(dataset):
         demos = sorted(data.keys())
         assert demos == ["demo_0", "demo_1", "demo_2"]
         assert data.attrs["total"] == sum(data[d].attrs["num_samples"] for d in demos)
-        assert json.loads(data.attrs["env_args"])["env_kwargs"]["control_mode"] == "pd_ee_pose_quat"
+        env_meta = json.loads(data.attrs["env_args"])
+        # robomimic/envs/env_base.py EnvType: ROBOSUITE_TYPE 1, GYM_TYPE 2, IG_MOMART_TYPE 3; env_utils
+        # get_env_class raises for any other. GYM_TYPE's EnvGym calls make(env_name, **env_kwargs).
+        assert env_meta["type"] == 2 and set(env_meta["env_kwargs"]) == {"control_mode"}
+        with gymnasium.make(env_meta["env_name"], address=dataset["address"], **env_meta["env_kwargs"]) as env:
+            assert env.unwrapped.control_mode == "pd_ee_pose_quat"
+        assert json.loads(data.attrs["contact_phases"])[0] == "approach"
         for name in demos:
             demo = data[name]
             n = demo.attrs["num_samples"]
@@ -119,6 +135,54 @@ def test_robomimic_hdf5_read_back(dataset):
             assert demo.attrs["scene"] in ("table", "kitchen") and demo.attrs["topology"]
         masks = {k: sorted(v.decode() for v in file[f"mask/{k}"][()]) for k in ("train", "valid")}
         assert sorted(masks["train"] + masks["valid"]) == demos and not set(masks["train"]) & set(masks["valid"])
+
+
+def test_libero_export_read_as_libero_loads_it(dataset, tmp_path):
+    out = export_libero(dataset["root"], tmp_path / "libero")
+    files = sorted(out.glob("*_demo.hdf5"))
+    recorded = {json.dumps(meta["instructions"]): steps for _, meta, steps in iter_episodes(dataset["root"])}
+    demos_read = 0
+    for path in files:
+        with h5py.File(path, "r") as f:
+            # libero/libero/utils/dataset_utils.py get_dataset_info: demos in episode order, the language
+            demos = sorted(f["data"].keys())
+            demos = [demos[i] for i in np.argsort([int(elem[5:]) for elem in demos])]
+            language = "".join(json.loads(f["data"].attrs["problem_info"])["language_instruction"])
+            assert path.name == language.lower().replace(" ", "_") + "_demo.hdf5"
+            assert json.loads(f["data"].attrs["env_args"])["type"] == 2
+            assert f["data"].attrs["num_demos"] == len(demos)
+            # robomimic's get_shape_metadata_from_dataset (LIBERO's get_dataset): the first demo's shapes
+            first = f["data"][list(f["data"].keys())[0]]
+            assert first["actions"].ndim == 2 and first["actions"].shape[1] == 7
+            shapes = {k: first[f"obs/{k}"].shape[1:] for k in ("agentview_rgb", "gripper_states", "joint_states",
+                                                                 "ee_states", "ee_pos", "ee_ori")}
+            assert shapes == {"agentview_rgb": (SIZE, SIZE, 3), "gripper_states": (2,), "joint_states": (7,),
+                              "ee_states": (6,), "ee_pos": (3,), "ee_ori": (3,)}
+            # SequenceDataset.load_demo_info: each demo's num_samples; data's total is their sum
+            assert f["data"].attrs["total"] == sum(f[f"data/{d}"].attrs["num_samples"] for d in demos)
+            for name in demos:
+                demo = f[f"data/{name}"]
+                steps = recorded[demo.attrs["instructions"]]
+                n = demo.attrs["num_samples"]
+                assert all(demo[k].shape[0] == n for k in ("actions", "states", "robot_states", "rewards", "dones"))
+                np.testing.assert_array_equal(demo["obs/agentview_rgb"][()], steps["obs/front_rgb"])
+                # scripts/create_dataset.py: ee_states = [eef pos, quat2axisangle(eef quat)], ee_pos, ee_ori its parts
+                quats = steps["obs/tcp_pose"][:, 3:7]
+                expected = [quat_xyzw_to_axis_angle(np.r_[q[1:], q[0]] * (1 if q[1] >= 0 else -1)) for q in quats]
+                np.testing.assert_allclose(demo["obs/ee_ori"][()], expected, atol=1e-6)
+                np.testing.assert_array_equal(demo["obs/ee_states"][()],
+                                              np.concatenate([demo["obs/ee_pos"][()], demo["obs/ee_ori"][()]], axis=1))
+                assert np.abs(np.diff(demo["obs/ee_ori"][()], axis=0)).max() < 0.5  # no flip at edge down
+                # OSC_POSE actions: delta / (0.05 m, 0.5 rad) in [-1, 1], gripper -1 (open)
+                actions = demo["actions"][()]
+                assert (np.abs(actions) <= 1.0).all() and (actions[:, 6] == -1.0).all()
+                delta = delta_ee_actions(steps, "pd_ee_pose_quat")
+                unclipped = (np.abs(delta[:, :3]) < 0.05).all(axis=1)
+                np.testing.assert_allclose(actions[unclipped, :3] * 0.05, delta[unclipped, :3], atol=1e-9)
+                # get_robot_state_vector: gripper qpos, eef pos, eef quaternion in robosuite's x, y, z, w
+                np.testing.assert_allclose(demo["robot_states"][:, 5:], np.roll(quats, -1, axis=1), atol=1e-9)
+                demos_read += 1
+    assert demos_read == 3
 
 
 def _jsonl(path: Path) -> list[dict]:
@@ -314,28 +378,58 @@ def test_lerobot_v21_read_back(dataset):
     assert referenced == {t["task"] for t in tasks} == {t for e in episodes for t in e["tasks"]}
 
 
-def test_rdt_hdf5_and_statistics(dataset):
-    folders = sorted(Path(dataset["export"]["rdt"]).iterdir())
-    assert len(folders) == 3
-    for folder in folders:
-        with h5py.File(folder / f"{folder.name}.hdf5", "r") as file:
-            n = file["action"].shape[0]
-            assert file["observations/qpos"].shape[0] == n
-            # Our cameras, and upstream's names linked to them (front is RDT's cam_high).
-            assert set(file["observations/images"].keys()) - {"cam_high", "cam_right_wrist"} == set(CAMERAS)
-            assert "cam_high" in file["observations/images"]
-            # RDT's reader decodes each frame's JPEG bytes with OpenCV: the recorded RGB comes back.
-            jpeg = file["observations/images/cam_high"][0]
-            decoded = cv2.imdecode(np.frombuffer(jpeg, np.uint8), cv2.IMREAD_COLOR)
-            index = int(folder.name.split("_")[1])
-            with h5py.File(dataset["export"]["robomimic"], "r") as robomimic:
-                recorded = robomimic[f"data/demo_{index}/obs/front_image"][0]
-            assert decoded.shape == recorded.shape
-            assert np.abs(decoded.astype(int) - recorded.astype(int)).mean() < 6.0  # JPEG at quality 95
-            assert file.attrs["control_frequency_hz"] == 20.0
-            assert file.attrs["scene"] in ("table", "kitchen") and file.attrs["topology"]
-        instructions = json.loads((folder / "expanded_instruction_gpt-4-turbo.json").read_text())
-        assert instructions["instruction"] and len(instructions["expanded_instruction"]) >= 5
+def test_rdt_export_read_by_rdts_hdf5_reader(dataset, tmp_path):
+    episodes = list(iter_episodes(dataset["root"]))
+    longest = max(len(steps["actions"]) for _, _, steps in episodes)
+    # the default export, and one whose minimum makes every episode padded
+    for out, min_steps in ((Path(dataset["export"]["rdt"]), 128), (tmp_path / "rdt", longest + 5)):
+        if min_steps != 128:
+            export_rdt(dataset["root"], out, min_steps=min_steps)
+        folders = sorted(out.iterdir())
+        assert len(folders) == 3
+        for folder, (_, _, steps) in zip(folders, episodes):
+            check_rdt_episode(folder / f"{folder.name}.hdf5", steps, min_steps)
+
+
+def check_rdt_episode(path: Path, steps: dict, min_steps: int) -> None:
+    recorded = len(steps["actions"])
+    valid, trajectory = rdt_reader.parse_state_only(path)
+    assert valid  # not dropped as too short
+    states = rdt_states(steps)  # the RDT adapter's robot_state of each observation
+    with h5py.File(path, "r") as file:
+        assert file.attrs["recorded_steps"] == recorded and len(file["action"]) == max(recorded, min_steps)
+        np.testing.assert_array_equal(file["recorded_actions"][:recorded], steps["actions"])
+        assert file.attrs["control_frequency_hz"] == 20.0
+        assert file.attrs["scene"] in ("table", "kitchen") and file.attrs["topology"]
+        # Our cameras, and upstream's names linked to them (front is RDT's cam_high).
+        assert set(file["observations/images"].keys()) - {"cam_high", "cam_right_wrist"} == set(CAMERAS)
+        first = rdt_reader.first_moving_step(file["observations/qpos"][:])
+    instructions = json.loads((path.parent / "expanded_instruction_gpt-4-turbo.json").read_text())
+    assert instructions["instruction"] and len(instructions["expanded_instruction"]) >= 5
+    # the trajectory the reader keeps: from the step before the first move, raw values in the adapter's slots
+    kept = trajectory["state"][:, RDT_UNIFIED_SLOTS]
+    np.testing.assert_allclose(kept[:recorded - first + 1], states[first - 1:], atol=1e-6)
+    assert (np.delete(trajectory["state"], RDT_UNIFIED_SLOTS, axis=1) == 0).all()
+    for step_id in (first, recorded - 2):
+        valid, sample = rdt_reader.parse_step(path, step_id)
+        # the state and the action chunk in the adapter's unified slots: each action is the next step's
+        # state; past the recording the knife holds its last state (our padding, then the reader's own)
+        np.testing.assert_allclose(sample["state"][0, RDT_UNIFIED_SLOTS], states[step_id], atol=1e-6)
+        ahead = states[step_id + 1:step_id + 1 + rdt_reader.CHUNK_SIZE]
+        ahead = np.concatenate([ahead, np.repeat(states[-1:], rdt_reader.CHUNK_SIZE - len(ahead), axis=0)])
+        np.testing.assert_allclose(sample["actions"][:, RDT_UNIFIED_SLOTS], ahead, atol=1e-6)
+        assert np.flatnonzero(sample["state_indicator"]).tolist() == RDT_UNIFIED_SLOTS
+        # standard RGB JPEGs: OpenCV's decode is BGR (converted as RDT's ALOHA converter does), PIL's RGB
+        bgr = sample["cam_high"][-1]
+        rgb = cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB)
+        assert np.abs(rgb.astype(int) - steps["obs/front_rgb"][step_id].astype(int)).mean() < 6.0  # quality 95
+        with h5py.File(path, "r") as file:
+            pil = np.asarray(Image.open(io.BytesIO(file["observations/images/front"][step_id])).convert("RGB"))
+        assert np.abs(pil.astype(int) - rgb.astype(int)).max() <= 2
+        assert sample["cam_right_wrist"].shape == (2, 0, 0, 0)  # no wrist camera in this dataset
+
+
+def test_export_statistics(dataset):
     statistics = json.loads(Path(dataset["export"]["statistics"]).read_text())
     entry = statistics["culinarycut"]
     assert entry["num_trajectories"] == 3

@@ -45,7 +45,7 @@ def run(spec, address, files, model: str, policy: str, unnorm_key: str | None = 
     server.start()
     try:
         policy_options = {"url": server.url, "camera_size": CAMERA, **options}
-        if model != "openpi":
+        if unnorm_key is not None:
             policy_options.update(statistics=statistics, unnorm_key=unnorm_key)
         result = run_episode(spec, address, EpisodeOptions(policy=policy, policy_options=policy_options))
     finally:
@@ -85,11 +85,13 @@ def test_octo_history_and_execution(spec, address, files, execution, queries):
     assert observation["timestep_pad_mask"].tolist() == [[True, True]] and request["prompt"] == row["instruction"]
 
 
-def test_rdt_holds_the_pose_it_is_given_back(spec, address, files):
-    # The stand-in predicts the state it was sent: normalise -> unified vector -> un-normalise -> 6-D
+@pytest.mark.parametrize("normalization", ["none", "bounds"])
+def test_rdt_holds_the_pose_it_is_given_back(spec, address, files, normalization):
+    # The stand-in predicts the state it was sent: (normalise ->) unified vector -> (un-normalise ->) 6-D
     # rotation -> quaternion must bring the knife back to where it is, so it stays put.
-    row, request, latency, result = run(spec, address, files, "rdt", "culinarycut_policies.rdt:RDTPolicy",
-                                        policy_support.RDT_KEY)
+    key = policy_support.RDT_KEY if normalization == "bounds" else None
+    row, request, latency, result = run(spec, address, files, "rdt", "culinarycut_policies.rdt:RDTPolicy", key,
+                                        normalization=normalization)
     assert latency["queries"] == 1
     assert [None if i is None else i.shape for i in request["images"]] == \
         [None, None, None, (384, 384, 3), (384, 384, 3), None]
@@ -105,7 +107,7 @@ def test_rdt_sends_precomputed_language_embeddings(spec, address, files):
                                                          split=spec.language)[0]
     embeddings = files["folder"] / "embeddings.npz"
     np.savez(embeddings, **{instruction: np.full((5, 4096), 0.25, dtype=np.float32)})
-    row, request, _, _ = run(spec, address, files, "rdt", "culinarycut_policies.rdt:RDTPolicy", policy_support.RDT_KEY,
+    row, request, _, _ = run(spec, address, files, "rdt", "culinarycut_policies.rdt:RDTPolicy",
                              language_embeddings=str(embeddings))
     assert request["text_embeds"].shape == (1, 5, 4096) and "instruction" not in request
     other = files["folder"] / "other.npz"
@@ -115,8 +117,7 @@ def test_rdt_sends_precomputed_language_embeddings(spec, address, files):
     try:
         result = run_episode(spec, address, EpisodeOptions(
             policy="culinarycut_policies.rdt:RDTPolicy",
-            policy_options={"url": server.url, "statistics": str(files["statistics"]),
-                            "unnorm_key": policy_support.RDT_KEY, "language_embeddings": str(other)}))
+            policy_options={"url": server.url, "language_embeddings": str(other)}))
     finally:
         server.stop()
     assert result.row["end_reason"] == "policy_error" and "no language embedding for" in result.row["error"]
@@ -144,7 +145,7 @@ def installed_policies(tmp_path_factory) -> Path:
 
 @pytest.mark.parametrize("model, unnorm_key", [("openvla", policy_support.DELTA_KEY),
                                                ("octo", policy_support.DELTA_KEY),
-                                               ("rdt", policy_support.RDT_KEY), ("openpi", None)])
+                                               ("rdt", None), ("openpi", None)])
 def test_bench_run_with_policy_url(files, address, installed_policies, tmp_path, model, unnorm_key):
     server, _ = make_standin(model, str(files["statistics"]))
     server.start()

@@ -166,12 +166,6 @@ def test_ortho6d_is_first_two_columns_and_round_trips():
     np.testing.assert_allclose(rotation.ortho6d_to_matrix(noisy), np.eye(3), atol=1e-12)
 
 
-def test_axis_angle_of_a_quarter_turn():
-    half = np.sqrt(0.5)
-    np.testing.assert_allclose(rotation.quat_wxyz_to_axis_angle([half, 0, 0, half]), [0, 0, np.pi / 2])
-    np.testing.assert_allclose(rotation.quat_wxyz_to_axis_angle([-half, 0, 0, -half]), [0, 0, np.pi / 2])
-
-
 # --- actions and chunks -------------------------------------------------------------------------------
 def test_delta_action_in_control_units_and_gripper_dropped():
     mode, values = actions.delta_to_ee_delta_pose([0.01, -0.02, 0.0, 0.05, 0.0, -0.1, 1.0], "metres_radians")

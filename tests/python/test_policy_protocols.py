@@ -7,11 +7,9 @@ import asyncio
 import http.client
 import json
 import socket
-import tempfile
 import threading
 import time
 import urllib.request
-from pathlib import Path
 
 import json_numpy
 import numpy as np
@@ -307,7 +305,7 @@ def test_adapters_check_the_server_metadata(tmp_path):
         with pytest.raises(PolicyServerError, match="has action_horizon 50; set option action_horizon=50"):
             octo.reset("cut", {})
         octo.close()
-        rdt = RDTPolicy(url=aloha.url, statistics=statistics, unnorm_key=policy_support.RDT_KEY)
+        rdt = RDTPolicy(url=aloha.url)
         with pytest.raises(PolicyServerError, match="policy rdt: the server at .* serves .octo., not .rdt."):
             rdt.reset("cut", {})
         rdt.close()
@@ -323,11 +321,11 @@ def test_adapters_check_the_server_metadata(tmp_path):
         unnormalising.stop()
     short = WebsocketPolicyServer(echo_model, {"model_family": "rdt", "action_horizon": 32}).start()
     try:
-        rdt = RDTPolicy(url=short.url, statistics=statistics, execute_steps=48)
+        rdt = RDTPolicy(url=short.url, execute_steps=48)
         with pytest.raises(PolicyServerError, match="execute_steps=48 exceeds the action_horizon 32 .*<=32"):
             rdt.reset("cut", {})
         rdt.close()
-        rdt = RDTPolicy(url=short.url, statistics=statistics, execute_steps=32)
+        rdt = RDTPolicy(url=short.url, execute_steps=32)
         rdt.reset("cut", {})  # within the server's chunk: accepted
         rdt.close()
     finally:
@@ -383,7 +381,7 @@ def test_octo_unnormalises_mean_std_and_ensembles_over_the_wire(tmp_path):
         server.stop()
 
 
-def test_rdt_state_layout_and_pose_target_over_the_wire(tmp_path):
+def test_rdt_min_max_normalisation_over_the_wire(tmp_path):
     from culinarycut_policies.rdt import RDTPolicy
     from culinarycut_policies.rotation import quat_wxyz_to_matrix
     statistics = policy_support.write_statistics(tmp_path)
@@ -398,7 +396,7 @@ def test_rdt_state_layout_and_pose_target_over_the_wire(tmp_path):
     server = WebsocketPolicyServer(model, {"model_family": "rdt"}).start()
     try:
         policy = RDTPolicy(url=server.url, statistics=statistics, unnorm_key=policy_support.RDT_KEY,
-                           control_frequency=20)
+                           control_frequency=20, normalization="bounds")
         policy.reset("cut", {})
         mode, target = policy.act(observation())
         policy.close()
@@ -416,6 +414,43 @@ def test_rdt_state_layout_and_pose_target_over_the_wire(tmp_path):
     np.testing.assert_allclose(target[3:], TCP_QUATERNION, atol=1e-6)  # the pose it was sent comes back
 
 
+def test_rdt_sends_and_executes_raw_values_as_its_hdf5_fine_tune_trains_on_them():
+    from culinarycut_policies.rdt import RDTPolicy
+    from culinarycut_policies.rotation import quat_wxyz_to_matrix
+    seen = {}
+
+    def model(request):
+        seen.update(request)
+        target = np.array(request["state"], dtype=np.float32)
+        target[0, 0, 30] = 0.4  # right_eef_pos_x: an absolute position in metres
+        return {"actions": np.repeat(target, 64, axis=1)}
+
+    server = WebsocketPolicyServer(model, {"model_family": "rdt"}).start()
+    try:
+        policy = RDTPolicy(url=server.url)  # normalization=none, no statistics
+        policy.reset("cut", {})
+        mode, target = policy.act(observation())
+        policy.close()
+    finally:
+        server.stop()
+    # data/hdf5_vla_dataset.py fill_in_state: zeros, the raw qpos at its unified indices, the indicator 1 there.
+    rotation = quat_wxyz_to_matrix(TCP_QUATERNION)
+    expected = np.zeros(128)
+    expected[list(range(7))] = np.linspace(-1, 1, 7)
+    expected[[30, 31, 32]] = [0.45, -0.05, 0.25]
+    expected[33:39] = np.concatenate([rotation[:, 0], rotation[:, 1]])
+    np.testing.assert_allclose(seen["state"][0, 0], expected, atol=1e-6)
+    np.testing.assert_array_equal(np.flatnonzero(seen["state_elem_mask"][0]), [0, 1, 2, 3, 4, 5, 6, 30, 31, 32,
+                                                                               33, 34, 35, 36, 37, 38])
+    assert mode == "pd_ee_pose_quat"
+    np.testing.assert_allclose(target[:3], [0.4, -0.05, 0.25], atol=1e-6)
+    np.testing.assert_allclose(target[3:], TCP_QUATERNION, atol=1e-6)
+    with pytest.raises(ValueError, match="statistics and unnorm_key are read only with normalization=bounds"):
+        RDTPolicy(statistics="stats.json")
+    with pytest.raises(ValueError, match="normalization must be one of"):
+        RDTPolicy(normalization="minmax")
+
+
 def test_rdt_images_are_jpeg_round_tripped_and_t_minus_1_is_the_previous_step():
     from culinarycut_policies.images import jpeg_roundtrip, pad_square_resize
     from culinarycut_policies.rdt import RDTPolicy
@@ -427,9 +462,7 @@ def test_rdt_images_are_jpeg_round_tripped_and_t_minus_1_is_the_previous_step():
 
     server = WebsocketPolicyServer(model, {"model_family": "rdt", "action_horizon": 64}).start()
     try:
-        with tempfile.TemporaryDirectory() as folder:
-            statistics = policy_support.write_statistics(Path(folder))
-            policy = RDTPolicy(url=server.url, statistics=statistics, execute_steps=2)
+        policy = RDTPolicy(url=server.url, execute_steps=2)
         policy.reset("cut", {})
         frames = [observation(seed) for seed in range(4)]
         for frame in frames:

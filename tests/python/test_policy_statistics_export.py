@@ -54,20 +54,24 @@ def test_every_adapter_loads_its_key_of_the_export(exported):
     observation = {"extra": {"tcp_pose": exported["steps"]["obs/tcp_pose"][0]},
                    "sensor_data": {c: {"rgb": np.zeros((16, 16, 3), np.uint8)} for c in ("front", "wrist")}}
     assert oft.request(observation)["state"].shape == (8,)  # LIBERO's eef state, not padded past the file
-    rdt = RDTPolicy(statistics=str(path))
-    assert rdt.stats.key == "culinarycut_rdt" and rdt.stats.action.dim == rdt.stats.proprio.dim == 16
+    rdt = RDTPolicy(statistics=str(path), normalization="bounds").normalization.stats  # RDT's ManiSkill scaling
+    assert rdt.key == "culinarycut_rdt" and rdt.action.dim == rdt.proprio.dim == 16
     entry = document["culinarycut_delta_ee"]
+    # a cut holds the knife near edge down: its rotation vector stays near (+pi, ...), not split at -pi and pi
+    q01, q99 = np.array(entry["proprio"]["q01"][3:6]), np.array(entry["proprio"]["q99"][3:6])
+    assert q01[0] > 2.5 and q99[0] < 3.8 and (q99 - q01 < 0.6).all(), (q01, q99)
     assert entry["num_transitions"] == len(exported["steps"]["actions"]) and entry["num_trajectories"] == 1
 
 
 @pytest.mark.parametrize("adapter", DELTA_ADAPTERS + (RDTPolicy,))
 def test_adapters_refuse_the_keys_of_other_layouts(exported, adapter):
     path = str(exported["statistics"])
+    options = {"normalization": "bounds"} if adapter is RDTPolicy else {}  # RDT reads statistics only then
     with pytest.raises(StatisticsError, match="'culinarycut'.* has action_layout 'pd_ee_pose_quat', but this adapter"):
-        adapter(statistics=path, unnorm_key="culinarycut")
+        adapter(statistics=path, unnorm_key="culinarycut", **options)
     other = "culinarycut_delta_ee" if adapter is RDTPolicy else "culinarycut_rdt"
     with pytest.raises(StatisticsError, match=f"'{other}'.* has action_layout"):
-        adapter(statistics=path, unnorm_key=other)
+        adapter(statistics=path, unnorm_key=other, **options)
 
 
 def test_layouts_match_what_the_adapters_compute(exported):

@@ -189,10 +189,13 @@ def register(sub) -> None:
     gen.add_argument("--no-progress", action="store_true")
     gen.set_defaults(data_func=cmd_generate)
 
-    exp = commands.add_parser("export", help="robomimic HDF5, LeRobot v2.1, RDT HDF5 and dataset_statistics.json")
+    exp = commands.add_parser("export", help="robomimic HDF5, LIBERO HDF5, LeRobot v2.1, RDT HDF5 and "
+                                             "dataset_statistics.json")
     exp.add_argument("dataset", help="a generated dataset folder")
     exp.add_argument("--out", required=True, help="export folder")
-    exp.add_argument("--format", default="robomimic,lerobot,rdt", help="comma list (default %(default)s)")
+    exp.add_argument("--format", default="robomimic,lerobot,rdt",
+                     help="comma list of robomimic, libero, lerobot, rdt (default %(default)s; libero needs "
+                          "end-effector control data)")
     exp.add_argument("--name", default="culinarycut", help="dataset name in the statistics and the robomimic file")
     exp.set_defaults(data_func=cmd_export)
 

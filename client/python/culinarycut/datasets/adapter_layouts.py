@@ -5,7 +5,8 @@ episode: the statistics contract between `culinarycut data export` and the adapt
   the recorded target relative to the measured TCP pose in the root frame (the rotation as XYZ Euler
   angles of `R_target R_tcp^T`, R = Rx Ry Rz: what pd_ee_delta_pose reads, in metres and radians instead
   of its 0.1 m / 0.1 rad units); gripper a constant 1 ("open", the Bridge/OpenVLA convention: nothing is
-  grasped); proprio LIBERO's eef state `[x, y, z (m), rotation vector (rad), 0, 0]` (two gripper slots).
+  grasped); proprio LIBERO's eef state `[x, y, z (m), rotation vector (rad), 0, 0]` (two gripper slots;
+  the rotation vector as rotation_vector.py takes it, continuous through the knife's edge-down pose).
 - RDT-1B: state and action in the 16 unified-vector slots the adapter fills (7 joints (rad), TCP xyz (m),
   6-D rotation: the first two columns of R); the action is the state after the step (RDT predicts states).
 """
@@ -14,11 +15,11 @@ from __future__ import annotations
 import numpy as np
 
 from culinarycut.datasets.object_frame import quat_to_matrix
-from culinarycut.geometry import quat_to_axis_angle
+from culinarycut.datasets.rotation_vector import tcp_rotation_vector
 
 # What the statistics entries say about themselves (fields beside "action" and "proprio").
 DELTA_EE_ACTION = "delta_ee_xyz_euler_xyz_gripper"
-DELTA_EE_PROPRIO = "tcp_xyz_rotvec_gripper2"
+DELTA_EE_PROPRIO = "tcp_xyz_rotvec_edge_down_gripper2"  # rotation_vector.py: continuous at edge down
 RDT_STATE = "rdt_unified_16"
 ACTION_UNITS = ("metres_radians", "maniskill_normalised", "robosuite_osc")
 RDT_UNITS = "si"  # absolute states: rad, m, and the unitless 6-D rotation
@@ -26,9 +27,14 @@ RDT_UNITS = "si"  # absolute states: rad, m, and the unitless 6-D rotation
 DELTA_EE_ACTION_NAMES = ["dx_m", "dy_m", "dz_m", "rx_rad", "ry_rad", "rz_rad", "gripper_open"]
 DELTA_EE_PROPRIO_NAMES = ["tcp_x_m", "tcp_y_m", "tcp_z_m", "tcp_rotvec_x_rad", "tcp_rotvec_y_rad",
                           "tcp_rotvec_z_rad", "gripper_0", "gripper_1"]
+# Their indices in RDT's 128-D unified vector (configs/state_vec.py): right_arm_joint_0..6_pos (0-6),
+# right_eef_pos_x..z (30-32), right_eef_angle_0..5 (33-38). Slot 10 (right gripper) is not used: no gripper.
+RDT_UNIFIED_SLOTS = list(range(7)) + [30, 31, 32] + list(range(33, 39))
 RDT_STATE_NAMES = [f"right_arm_joint_{i}_pos_rad" for i in range(7)] + \
     ["right_eef_pos_x_m", "right_eef_pos_y_m", "right_eef_pos_z_m"] + [f"right_eef_angle_{i}" for i in range(6)]
 
+ROBOSUITE_OSC_UNIT_M = 0.05   # robosuite's OSC_POSE (LIBERO): output_max 0.05 m and 0.5 rad, input in [-1, 1]
+ROBOSUITE_OSC_UNIT_RAD = 0.5
 EE_DELTA_UNIT_M = 0.1    # pd_ee_delta_pose: 1 = 0.1 m (docs/robot.md)
 EE_DELTA_UNIT_RAD = 0.1  # and 0.1 rad
 GRIPPER_OPEN = 1.0
@@ -64,9 +70,10 @@ def delta_ee_actions(steps: dict, control_mode: str) -> np.ndarray:
 
 
 def delta_ee_proprio(steps: dict) -> np.ndarray:
-    """(T, 8): TCP position (m), rotation vector (rad), two gripper slots at 0 (the knife has none)."""
+    """(T, 8): TCP position (m), rotation vector (rad, rotation_vector.py), two gripper slots at 0 (the knife
+    has none)."""
     poses = np.asarray(steps["obs/tcp_pose"], dtype=np.float64)
-    rotvecs = np.array([quat_to_axis_angle(q) for q in poses[:, 3:7]]).reshape(-1, 3)
+    rotvecs = np.array([tcp_rotation_vector(q) for q in poses[:, 3:7]]).reshape(-1, 3)
     return np.concatenate([poses[:, :3], rotvecs, np.zeros((len(poses), 2))], axis=1)
 
 

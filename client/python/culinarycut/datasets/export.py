@@ -9,16 +9,19 @@ from culinarycut.datasets.adapter_layouts import (DELTA_MODES, delta_ee_actions,
                                                   rdt_states)
 from culinarycut.datasets.episodes import action_names, iter_episodes, proprio, proprio_names
 from culinarycut.datasets.export_lerobot import export_lerobot
+from culinarycut.datasets.export_libero import export_libero
 from culinarycut.datasets.export_rdt import export_rdt
 from culinarycut.datasets.export_robomimic import export_robomimic
 from culinarycut.datasets.statistics import dataset_statistics, delta_ee_statistics, rdt_statistics, write_statistics
 
-FORMATS = ("robomimic", "lerobot", "rdt")
+FORMATS = ("robomimic", "libero", "lerobot", "rdt")
+DEFAULT_FORMATS = ("robomimic", "lerobot", "rdt")  # libero needs end-effector data (export_libero.py)
 STATISTICS_NAME = "dataset_statistics.json"
 log = logging.getLogger(__name__)
 
 
-def export(root: Path, out: Path, formats: tuple[str, ...] = FORMATS, name: str = "culinarycut") -> dict[str, Path]:
+def export(root: Path, out: Path, formats: tuple[str, ...] = DEFAULT_FORMATS,
+           name: str = "culinarycut") -> dict[str, Path]:
     unknown = set(formats) - set(FORMATS)
     if unknown:
         raise ValueError(f"unknown formats {sorted(unknown)}; choose from {', '.join(FORMATS)}")
@@ -26,6 +29,8 @@ def export(root: Path, out: Path, formats: tuple[str, ...] = FORMATS, name: str 
     written = {}
     if "robomimic" in formats:
         written["robomimic"] = export_robomimic(root, out / "robomimic" / f"{name}.hdf5")
+    if "libero" in formats:
+        written["libero"] = export_libero(root, out / "libero")
     if "lerobot" in formats:
         written["lerobot"] = export_lerobot(root, out / "lerobot")
     if "rdt" in formats:

@@ -1,6 +1,8 @@
-"""robomimic / LIBERO HDF5: data (attrs total, env_args) / demo_i (attrs num_samples, model_file,
-init_state) with obs/<key>, next_obs/<key>, actions, rewards, dones, states; LIBERO's ee_states and
-joint_states; train / valid masks under mask/. One file for the whole dataset."""
+"""robomimic HDF5: data (attrs total, env_args) / demo_i (attrs num_samples, model_file, init_state) with
+obs/<key>, next_obs/<key>, actions, rewards, dones, states; train / valid masks under mask/. One file for
+the whole dataset. env_args is robomimic's env metadata for a Gym environment (EnvType.GYM_TYPE, 2, in
+robomimic/envs/env_base.py: EnvGym calls make(env_name, **env_kwargs)): CulinaryCut's registered
+Gymnasium id, with the control mode; each demo's scene is its model_file."""
 from __future__ import annotations
 
 import json
@@ -11,6 +13,9 @@ import numpy as np
 
 from culinarycut.datasets.episodes import PHASES, camera_names, iter_episodes, phase_codes, scene_conditions
 
+ROBOMIMIC_GYM_TYPE = 2          # robomimic/envs/env_base.py EnvType.GYM_TYPE (1 robosuite, 3 iGibson)
+GYM_ENV_NAME = "CulinaryCut/Robot-v0"  # registration.py; robomimic's EnvGym makes it with env_kwargs
+
 
 def _obs(steps: dict) -> dict[str, np.ndarray]:
     obs = {f"{camera}_image": steps[f"obs/{camera}_rgb"] for camera in camera_names(steps)}
@@ -19,6 +24,11 @@ def _obs(steps: dict) -> dict[str, np.ndarray]:
                wrist_wrench=steps["obs/wrist_wrench"], contact_phase=phase_codes(steps),
                knife_contact=steps["knife_contact"].astype(np.uint8))
     return obs
+
+
+def robomimic_env_args(control_mode: str) -> dict:
+    """robomimic's env metadata: only make() keywords in env_kwargs, as EnvGym passes them on."""
+    return {"env_name": GYM_ENV_NAME, "type": ROBOMIMIC_GYM_TYPE, "env_kwargs": {"control_mode": control_mode}}
 
 
 def export_robomimic(root: Path, out: Path, valid_fraction: float = 0.1) -> Path:
@@ -55,14 +65,14 @@ def export_robomimic(root: Path, out: Path, valid_fraction: float = 0.1) -> Path
             demo.attrs["topology"] = conditions["topology"]
             names.append(name)
             total += len(steps["actions"])
-            env_args = env_args or {"env_name": "CulinaryCut", "type": 4,  # none of robomimic's EnvTypes (1-3)
-                                    "env_kwargs": {"control_mode": meta["control_mode"],
-                                                   "quality": meta["resolved_scene"].get("quality", ""),
-                                                   "contact_phases": list(PHASES)}}
+            if env_args is None:  # the first demo's, as before: one control mode per dataset
+                env_args = robomimic_env_args(meta["control_mode"])
+                data.attrs["quality"] = json.dumps(meta["resolved_scene"].get("quality", ""))
         if not names:
             raise ValueError(f"{root}: no kept episodes to export")
         data.attrs["total"] = total
         data.attrs["env_args"] = json.dumps(env_args)
+        data.attrs["contact_phases"] = json.dumps(list(PHASES))  # the names of obs/contact_phase's codes
         data.attrs["problem_info"] = json.dumps({"problem_name": "culinarycut", "domain_name": "cutting"})
         stride = max(1, round(1 / valid_fraction)) if valid_fraction > 0 else 0
         valid = [n for i, n in enumerate(names) if stride and i % stride == stride - 1]

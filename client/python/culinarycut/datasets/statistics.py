@@ -7,7 +7,8 @@ Three keys per dataset `name` (adapter_layouts.py computes the layouts):
   training code of one's own; no adapter accepts it.
 - `name_delta_ee`: what the OpenVLA, OpenVLA-OFT and Octo adapters read: delta end-effector actions in
   metres and radians (7, gripper masked) and LIBERO's eef proprio (8, gripper slots masked).
-- `name_rdt`: what the RDT adapter reads: its 16 unified-vector state and action slots.
+- `name_rdt`: what the RDT adapter reads with normalization=bounds: its 16 unified-vector state and action
+  slots.
 Each entry names its layout and units (`action_layout`, `proprio_layout`, `action_units`, and the
 dimension names), so an adapter can refuse statistics that are not in the layout it executes.
 """
