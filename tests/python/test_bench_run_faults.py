@@ -113,6 +113,16 @@ def test_a_corrupt_results_database_is_named_and_left_as_it_is(address, tmp_path
     assert (out / "results.sqlite").read_bytes() == garbage
 
 
+def test_a_report_of_a_corrupt_database_names_it_in_one_line(tmp_path):
+    (tmp_path / "results.sqlite").write_bytes(b"these bytes are no SQLite database " * 200)
+    done = bench("report", str(tmp_path), check=False)
+    assert done.returncode == 4, done.stderr
+    assert error_lines(done.stderr) == [f"error: {tmp_path / 'results.sqlite'} is not a readable SQLite database "
+                                        "(file is not a database); it was left as it is. Recover its rows (sqlite3 "
+                                        f"{tmp_path / 'results.sqlite'} .recover | sqlite3 recovered.sqlite) or move "
+                                        "it aside, then run the report again"]
+
+
 @pytest.fixture
 def shared_folder():
     """A folder an unprivileged user can reach (pytest's tmp_path is private to the user running it)."""

@@ -78,7 +78,7 @@ def cmd_run(args) -> int:
                        progress=not args.no_progress, command_line=command_line(args.argv))
     try:
         summary = run_suite(config)
-        with storage_faults(out / DATABASE_NAME, config.command_line), ResultStore(out) as store:
+        with storage_faults(out / DATABASE_NAME, f"resume with: {config.command_line}"), ResultStore(out) as store:
             rows = store.episodes()
     except BadRunInput as err:  # only the run's input: a ValueError from inside a run is no usage error
         print(f"error: {err}", file=sys.stderr)
@@ -105,11 +105,15 @@ def cmd_run(args) -> int:
 
 def cmd_report(args) -> int:
     from culinarycut.bench.report import ReportError, write_report
+    from culinarycut.bench.run_errors import StorageFault
     try:
         written = write_report([Path(d) for d in args.runs], Path(args.out) if args.out else None)
     except ReportError as err:
         print(f"error: {err}", file=sys.stderr)
         return EXIT_USAGE
+    except StorageFault as err:
+        print(f"error: {err}", file=sys.stderr)
+        return EXIT_STORAGE
     for path in written:
         print(f"wrote {path}")
     return 0

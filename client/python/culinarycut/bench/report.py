@@ -12,9 +12,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from culinarycut.bench import report_charts, safety_figure, safety_tables
+from culinarycut.bench.storage_faults import storage_faults
 from culinarycut.bench.store import DATABASE_NAME, ResultStore
 from culinarycut.bench.tables import markdown_table, rate_cells, split_partial, success_by
 
+AGAIN = "run the report again"  # what a storage fault's message ends with
 MAX_FORCE_PANELS = 12  # force-time overlays for at most this many tasks (the first ones)
 
 
@@ -44,7 +46,7 @@ class Block:
 def load_run(folder: Path) -> Run:
     if not (folder / DATABASE_NAME).is_file():
         raise ReportError(f"{folder} holds no run ({DATABASE_NAME} is missing); give the --out folder of bench run")
-    with ResultStore(folder) as store:
+    with storage_faults(folder / DATABASE_NAME, AGAIN), ResultStore(folder) as store:
         rows = store.episodes()
         traces = [(row["task"], store.trace(row["task"], row["trial"]) or {"time_s": [], "force_n": []})
                   for row in rows]
@@ -254,9 +256,10 @@ def write_report(folders: list[Path], out: Path | None = None) -> list[Path]:
     _distinct_labels(runs)
     out = out or folders[0]
     files = out / "report_files"
-    files.mkdir(parents=True, exist_ok=True)
     blocks = build_blocks(runs)
     markdown, page = out / "report.md", out / "report.html"
-    markdown.write_text(to_markdown(blocks, files))
-    page.write_text(to_html(blocks))
+    with storage_faults(out, f"{AGAIN} (or give another --out)"):
+        files.mkdir(parents=True, exist_ok=True)
+        markdown.write_text(to_markdown(blocks, files))
+        page.write_text(to_html(blocks))
     return [markdown, page]

@@ -159,11 +159,11 @@ def run_suite(config: RunConfig) -> RunSummary:
         raise BadRunInput(str(err)) from None
     versions = server_versions(config.servers)
     resume = config.command_line or "the same command"
-    database = config.out / DATABASE_NAME
-    with storage_faults(database, resume):
+    database, resume_step = config.out / DATABASE_NAME, f"resume with: {resume}"
+    with storage_faults(database, resume_step):
         store = ResultStore(config.out)
     with store:
-        with storage_faults(database, resume):
+        with storage_faults(database, resume_step):
             check_identity(store, config)
             allowed = check_versions(versions, store, config.allow_mixed_versions)
             episodes = suite_episodes(config.suite)
@@ -199,7 +199,7 @@ def run_suite(config: RunConfig) -> RunSummary:
                     row = done.result.row
                     check_row_version(row, allowed, len(store.done_keys()), resume)
                     retrying = (row["task"], row["trial"]) in retry_keys
-                    with storage_faults(database, resume):
+                    with storage_faults(database, resume_step):
                         recorded = _store_result(store, config.out, done, retrying)
                     if recorded:
                         ran += 1
@@ -217,7 +217,7 @@ def run_suite(config: RunConfig) -> RunSummary:
                 dask_client.close()
             if cluster is not None:
                 cluster.close()
-        with storage_faults(database, resume):
+        with storage_faults(database, resume_step):
             stored = len(store.done_keys())
             errors = _stored_errors(store, episodes)
         if interrupted:

@@ -1,6 +1,6 @@
 """Storage faults of a run folder as one-line StorageFaults: a read-only folder, a full disk, a corrupt
-results database. Each names the file and says how to resume; the database is never repaired or replaced
-here, so nothing stored is lost."""
+results database. Each names the file and says what to do next (the command that resumes); the database is
+never repaired or replaced here, so nothing stored is lost."""
 from __future__ import annotations
 
 import contextlib
@@ -17,9 +17,9 @@ _SQLITE_READ_ONLY = (sqlite3.SQLITE_READONLY, sqlite3.SQLITE_CANTOPEN, sqlite3.S
 _SQLITE_CORRUPT = (sqlite3.SQLITE_NOTADB, sqlite3.SQLITE_CORRUPT)
 
 
-def describe(err: Exception, file: Path, resume: str) -> StorageFault | None:
-    """The StorageFault for `err` (an OSError or an sqlite3 error met on `file`), or None when it is no
-    storage fault."""
+def describe(err: Exception, file: Path, next_step: str) -> StorageFault | None:
+    """The StorageFault for `err` (an OSError or an sqlite3 error met on `file`), ending in `next_step`
+    (e.g. "resume with: COMMAND"); None when it is no storage fault."""
     if isinstance(err, OSError):
         file = Path(err.filename) if err.filename else file
         kind = "full" if err.errno == errno.ENOSPC else "read-only" if err.errno in _READ_ONLY_ERRNOS else "io"
@@ -35,25 +35,25 @@ def describe(err: Exception, file: Path, resume: str) -> StorageFault | None:
         return None
     if kind == "full":
         return StorageFault(f"cannot write {file}: the disk is full ({reason}); what is stored is kept. "
-                            f"Free some space and resume with: {resume}")
+                            f"Free some space and {next_step}")
     if kind == "read-only":
         return StorageFault(f"cannot write {file}: {reason} (a read-only folder or file?); what is stored is kept. "
-                            f"Make {file.parent} writable and resume with: {resume}")
+                            f"Make {file.parent} writable and {next_step}")
     if kind == "corrupt":
         return StorageFault(f"{file} is not a readable SQLite database ({reason}); it was left as it is. Recover "
                             f"its rows (sqlite3 {file} .recover | sqlite3 recovered.sqlite) or move it aside, "
-                            f"then resume with: {resume}")
-    return StorageFault(f"cannot write {file}: {reason}; what is stored is kept. Resume with: {resume}")
+                            f"then {next_step}")
+    return StorageFault(f"cannot write {file}: {reason}; what is stored is kept. Then {next_step}")
 
 
 @contextlib.contextmanager
-def storage_faults(file: Path, resume: str):
+def storage_faults(file: Path, next_step: str):
     """Turns an OSError or sqlite3 error raised inside into a StorageFault naming `file` (or the OSError's
-    own file); anything else passes through."""
+    own file) and ending in `next_step`; anything else passes through."""
     try:
         yield
     except (OSError, sqlite3.Error) as err:
-        fault = describe(err, file, resume)
+        fault = describe(err, file, next_step)
         if fault is None:
             raise
         raise fault from None
