@@ -235,7 +235,7 @@ def test_the_report_tables_match_the_database_and_the_page_is_self_contained(smo
         assert (tmp_path / image).stat().st_size > 1000
     page = (tmp_path / "report.html").read_text()
     assert page.count("data:image/png;base64,") >= 2
-    assert not re.search(r"(src|href)=\"(?!data:)", page)  # nothing outside the file
+    assert not re.search(r"(src|href)=\"(?!data:)", page)  # no failure videos here: nothing outside the file
 
 
 def test_the_html_report_renders_in_a_headless_browser(smoke_run, tmp_path):
@@ -363,7 +363,10 @@ def test_record_failures_keeps_a_gif_of_each_failed_episode_and_the_report_shows
         name = Path(row["video"]).name
         assert f"![{row['task']}, trial 0](report_files/{name})" in failures
         assert (tmp_path / "report_files" / name).read_bytes() == (noop_run / row["video"]).read_bytes()
-    assert (tmp_path / "report.html").read_text().count("data:image/gif;base64,") == 8
+    page = (tmp_path / "report.html").read_text()
+    assert "data:image/gif" not in page  # a thumbnail (the last frame) links each video file beside the page
+    links = re.findall(r'<a href="(report_files/[^"]+)"><img src="data:image/jpeg;base64,', page)
+    assert sorted(links) == sorted(f"report_files/{Path(row['video']).name}" for row in stored)
 
 
 def test_the_report_has_a_radar_per_side_and_topology_on_and_off_from_a_stored_run(noop_run, tmp_path):
