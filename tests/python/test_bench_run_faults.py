@@ -60,9 +60,9 @@ def test_a_model_server_that_does_not_answer_stops_the_run_before_its_first_epis
     url = f"{scheme}://127.0.0.1:{free_port()}"
     statistics = policy_support.write_statistics(tmp_path)
     out = tmp_path / "run"
+    options = [f"statistics={statistics}", f"unnorm_key={policy_support.DELTA_KEY}", "retries=1", "backoff_s=0.1"]
     done = bench("run", str(tiny_suite(tmp_path, 3)), "--policy", policy, "--policy-url", url,
-                 "--policy-option", f"statistics={statistics}", "--policy-option", f"unnorm_key={policy_support.DELTA_KEY}",
-                 "--policy-option", "retries=1", "--policy-option", "backoff_s=0.1", "--server", address,
+                 *[arg for option in options for arg in ("--policy-option", option)], "--server", address,
                  "--out", str(out), "--no-progress", check=False)
     assert done.returncode == 1, done.stderr
     (line,) = error_lines(done.stderr)  # one line, no traceback

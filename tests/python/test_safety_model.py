@@ -171,6 +171,10 @@ def test_fit_and_predict_through_the_cli_write_and_read_a_valid_asset(tmp_path):
     assert cli("fit", str(tmp_path / "nowhere")).returncode == 2
 
 
+def predicted_force(printed: str) -> float:
+    return float(re.search(r"F_hat at 1 m/s: ([0-9.]+) N", printed).group(1))
+
+
 def test_predict_reads_the_servers_force_model_from_any_working_folder(tmp_path):
     """Without --model, as the server: $CULINARYCUT_ASSETS_DIR/safety/force_model.json, else the checkout's."""
     inputs = ("predict", "--speed", "1", "--youngs-mpa", "2.5", "--yield-kpa", "300", "--toughness", "488",
@@ -179,7 +183,7 @@ def test_predict_reads_the_servers_force_model_from_any_working_folder(tmp_path)
     shipped = subprocess.run([sys.executable, "-m", "culinarycut", "safety", *inputs], capture_output=True,
                              text=True, env=env, cwd=tmp_path, timeout=60)
     assert shipped.returncode == 0, shipped.stderr
-    force = float(re.search(r"F_hat at 1 m/s: ([0-9.]+) N", shipped.stdout).group(1))
+    force = predicted_force(shipped.stdout)
     # The same model with every coefficient doubled, in an assets folder of its own: twice the force.
     asset = json.loads((REPO / "assets" / "safety" / "force_model.json").read_text())
     for term in asset["terms"]:
@@ -188,7 +192,7 @@ def test_predict_reads_the_servers_force_model_from_any_working_folder(tmp_path)
     (tmp_path / "assets" / "safety" / "force_model.json").write_text(json.dumps(asset))
     doubled = cli(*inputs, env={"CULINARYCUT_ASSETS_DIR": str(tmp_path / "assets")}, cwd=tmp_path / "assets")
     assert doubled.returncode == 0, doubled.stderr
-    assert float(re.search(r"F_hat at 1 m/s: ([0-9.]+) N", doubled.stdout).group(1)) == pytest.approx(2 * force, abs=2e-3)
+    assert predicted_force(doubled.stdout) == pytest.approx(2 * force, abs=2e-3)
     missing = cli(*inputs, env={"CULINARYCUT_ASSETS_DIR": str(tmp_path / "empty")})
     assert missing.returncode == 2 and "Traceback" not in missing.stderr
     assert f"no force model at {tmp_path / 'empty' / 'safety' / 'force_model.json'}" in missing.stderr
