@@ -54,6 +54,14 @@ class RemotePolicy(Policy):
                                     f"not {self.model_family!r}")
         self.check_metadata(metadata)
 
+    def preflight(self) -> None:
+        """The runner's check before a run's first episode: connects (with the retries of the timeouts), checks
+        the server's metadata and closes; raises what connect() raises, naming the URL."""
+        try:
+            self.connect()
+        finally:
+            self.close()
+
     def check_metadata(self, metadata: dict) -> None:
         """Subclasses compare the server's metadata with their options."""
 

@@ -18,10 +18,10 @@ from pathlib import Path
 
 import pytest
 
+from bench_cli import bench, with_tests_on_path
 from conftest import start_server, stop_server
 from stored_runs import rows
 
-HERE = Path(__file__).resolve().parent
 # What must not differ between two runs of the same episodes (the same build, seeds and thread count).
 OUTCOME_COLUMNS = ("task", "trial", "seed", "instruction", "outcome", "end_reason", "steps", "pieces", "cuts",
                    "cuts_within_tolerance", "peak_force_n")
@@ -44,21 +44,6 @@ food = "cucumber"
 state = "middle"
 topology = [true, false]
 """
-
-
-def with_tests_on_path(env: dict) -> dict:
-    """The environment plus this folder on PYTHONPATH (for bench_policies and the worker preload), keeping
-    what PYTHONPATH already named."""
-    return {**env, "PYTHONPATH": os.pathsep.join(filter(None, [str(HERE), env.get("PYTHONPATH")]))}
-
-
-def bench(*argv, timeout=600, check=True):
-    env = with_tests_on_path(dict(os.environ))
-    done = subprocess.run([sys.executable, "-m", "culinarycut", "bench", *argv], capture_output=True, text=True,
-                          timeout=timeout, env=env)
-    if check:
-        assert done.returncode == 0, f"exit {done.returncode}\n{done.stdout}\n{done.stderr}"
-    return done
 
 
 def rows_so_far(folder: Path) -> list[dict]:
@@ -205,14 +190,14 @@ def test_a_policy_that_raises_or_hangs_is_recorded_as_policy_error_and_the_suite
     suite.write_text('name = "faults"\ndescription = "policy faults"\ntrials = 2\nmax_episode_steps = 20\n'
                      '[[tasks]]\nfood = "cucumber"\nstate = "middle"\n')
     raised = bench("run", str(suite), "--policy", "bench_policies:RaisingPolicy", "--server", address,
-                   "--out", str(tmp_path / "raising"), "--no-progress")
-    assert "faults with bench_policies:RaisingPolicy" in raised.stdout
+                   "--out", str(tmp_path / "raising"), "--no-progress", check=False)
+    assert raised.returncode == 3 and "faults with bench_policies:RaisingPolicy" in raised.stdout
     stored = rows(tmp_path / "raising")
     assert len(stored) == 2 and {r["end_reason"] for r in stored} == {"policy_error"}
     assert all("the model ran out of ideas" in r["error"] and r["steps"] == 2 for r in stored)  # it raises at step 2
     slow = bench("run", str(suite), "--policy", "bench_policies:SlowPolicy", "--act-timeout", "0.5", "--server",
-                 address, "--out", str(tmp_path / "slow"), "--no-progress")
-    assert slow.returncode == 0
+                 address, "--out", str(tmp_path / "slow"), "--no-progress", check=False)
+    assert slow.returncode == 3  # every episode ran, but as an error
     assert {r["error"] for r in rows(tmp_path / "slow")} == {"act took longer than 0.5 s at step 0"}
 
 
@@ -250,7 +235,7 @@ def test_the_report_tables_match_the_database_and_the_page_is_self_contained(smo
         assert (tmp_path / image).stat().st_size > 1000
     page = (tmp_path / "report.html").read_text()
     assert page.count("data:image/png;base64,") >= 2
-    assert not re.search(r"(src|href)=\"(?!data:)", page)  # nothing outside the file
+    assert not re.search(r"(src|href)=\"(?!data:)", page)  # no failure videos here: nothing outside the file
 
 
 def test_the_html_report_renders_in_a_headless_browser(smoke_run, tmp_path):
@@ -378,7 +363,10 @@ def test_record_failures_keeps_a_gif_of_each_failed_episode_and_the_report_shows
         name = Path(row["video"]).name
         assert f"![{row['task']}, trial 0](report_files/{name})" in failures
         assert (tmp_path / "report_files" / name).read_bytes() == (noop_run / row["video"]).read_bytes()
-    assert (tmp_path / "report.html").read_text().count("data:image/gif;base64,") == 8
+    page = (tmp_path / "report.html").read_text()
+    assert "data:image/gif" not in page  # a thumbnail (the last frame) links each video file beside the page
+    links = re.findall(r'<a href="(report_files/[^"]+)"><img src="data:image/jpeg;base64,', page)
+    assert sorted(links) == sorted(f"report_files/{Path(row['video']).name}" for row in stored)
 
 
 def test_the_report_has_a_radar_per_side_and_topology_on_and_off_from_a_stored_run(noop_run, tmp_path):
@@ -422,8 +410,8 @@ def test_retry_errors_reruns_the_episodes_stored_as_server_errors_and_replaces_t
     # As a deadline on the episode's first call leaves it: the row names no server version.
     edit(out, "UPDATE episodes SET outcome = 'error', end_reason = 'server_error', server_version = '', "
               "build_id = '', error = 'DEADLINE_EXCEEDED: Deadline Exceeded' WHERE task = ?", (errored["task"],))
-    resumed = bench(*argv)  # an error row names no version: no "mixed versions" refusal
-    assert "this run: 0 episodes" in resumed.stdout
+    resumed = bench(*argv, check=False)  # an error row names no version: no "mixed versions" refusal
+    assert resumed.returncode == 3 and "this run: 0 episodes" in resumed.stdout
     assert rows(out)[1]["end_reason"] == "server_error"
     bench("report", str(out), "--out", str(tmp_path / "report"))
     summary = (tmp_path / "report" / "report.md").read_text().split("## ")[0]

@@ -10,6 +10,7 @@ import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,6 +22,7 @@ from culinarycut.safety.fit import fit_force_model, monotonic_in_speed
 from culinarycut.safety.posynomial import INPUTS, Posynomial
 from culinarycut.safety.speed_limit import TOLERANCE_M_S, material_inputs, safe_speed
 
+REPO = Path(__file__).resolve().parents[2]
 # A known model: toughness x edge, friction per edge length, and a speed-squared term (N).
 TRUE_TERMS = {(0, 0, 0, 1, 1): 0.9, (0, 0, 0, 0, 1): 40.0, (2, 0, 0, 0, 1): 6.0}
 
@@ -35,9 +37,9 @@ def synthetic_inputs(count: int, seed: int) -> np.ndarray:
                             rng.uniform(20, 100, count), rng.uniform(60, 200, count), rng.uniform(0.015, 0.05, count)])
 
 
-def cli(*args: str, env: dict | None = None) -> subprocess.CompletedProcess:
+def cli(*args: str, env: dict | None = None, cwd=None) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "culinarycut", "safety", *args], capture_output=True, text=True,
-                          env={**os.environ, **(env or {})}, timeout=600)
+                          env={**os.environ, **(env or {})}, timeout=600, cwd=cwd)
 
 
 def coefficient_of(model: Posynomial, exponents: tuple) -> float:
@@ -167,6 +169,34 @@ def test_fit_and_predict_through_the_cli_write_and_read_a_valid_asset(tmp_path):
               "--toughness", "120", "--edge-length-m", "0.04")
     assert bad.returncode == 2 and "--speed" in bad.stderr
     assert cli("fit", str(tmp_path / "nowhere")).returncode == 2
+
+
+def predicted_force(printed: str) -> float:
+    return float(re.search(r"F_hat at 1 m/s: ([0-9.]+) N", printed).group(1))
+
+
+def test_predict_reads_the_servers_force_model_from_any_working_folder(tmp_path):
+    """Without --model, as the server: $CULINARYCUT_ASSETS_DIR/safety/force_model.json, else the checkout's."""
+    inputs = ("predict", "--speed", "1", "--youngs-mpa", "2.5", "--yield-kpa", "300", "--toughness", "488",
+              "--edge-length-m", "0.04")
+    env = {k: v for k, v in os.environ.items() if k != "CULINARYCUT_ASSETS_DIR"}
+    shipped = subprocess.run([sys.executable, "-m", "culinarycut", "safety", *inputs], capture_output=True,
+                             text=True, env=env, cwd=tmp_path, timeout=60)
+    assert shipped.returncode == 0, shipped.stderr
+    force = predicted_force(shipped.stdout)
+    # The same model with every coefficient doubled, in an assets folder of its own: twice the force.
+    asset = json.loads((REPO / "assets" / "safety" / "force_model.json").read_text())
+    for term in asset["terms"]:
+        term["coefficient"] *= 2
+    (tmp_path / "assets" / "safety").mkdir(parents=True)
+    (tmp_path / "assets" / "safety" / "force_model.json").write_text(json.dumps(asset))
+    doubled = cli(*inputs, env={"CULINARYCUT_ASSETS_DIR": str(tmp_path / "assets")}, cwd=tmp_path / "assets")
+    assert doubled.returncode == 0, doubled.stderr
+    assert predicted_force(doubled.stdout) == pytest.approx(2 * force, abs=2e-3)
+    missing = cli(*inputs, env={"CULINARYCUT_ASSETS_DIR": str(tmp_path / "empty")})
+    assert missing.returncode == 2 and "Traceback" not in missing.stderr
+    assert f"no force model at {tmp_path / 'empty' / 'safety' / 'force_model.json'}" in missing.stderr
+    assert "CULINARYCUT_ASSETS_DIR" in missing.stderr
 
 
 @pytest.fixture(scope="module")

@@ -12,6 +12,7 @@ from google.protobuf import json_format
 from culinarycut import cli_bench, cli_data, cli_safety, cli_tasks
 from culinarycut.client import Client
 from culinarycut.errors import CulinaryCutError, Unavailable
+from culinarycut.extras import missing_extra_message
 from culinarycut.geometry import quat_angle, quat_rotate
 
 KNIFE_DOWN = np.array([0.0, 1.0, 0.0, 0.0])  # (w, x, y, z): 180 deg about world x, TCP z axis down
@@ -156,6 +157,12 @@ def main(argv: list[str] | None = None) -> int:
         return 4
     except DemoFailure as err:
         print(f"error: demo failed: {err}", file=sys.stderr)
+        return 1
+    except ModuleNotFoundError as err:
+        message = missing_extra_message(err, args.command)
+        if message is None:
+            raise
+        print(f"error: {message}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         return 130

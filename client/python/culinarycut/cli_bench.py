@@ -5,10 +5,14 @@ import json
 import sys
 from pathlib import Path
 
-from culinarycut.bench.suite import SuiteError, available_suites, load_suite
+from culinarycut.bench.policy_error_streak import DEFAULT_MAX_CONSECUTIVE_POLICY_ERRORS
 
-EXIT_USAGE = 2       # unknown suite, task field or policy; bad options
-EXIT_RUN_FAILED = 1  # servers down, run folder of another run, servers lost or mixed mid-run, a failed task
+# Exit codes of `bench run` (the table in docs/evaluation.md).
+EXIT_CLEAN = 0            # every episode of the suite is stored, none as an error
+EXIT_RUN_FAILED = 1       # could not start or go on: servers down or lost, policy not ready or failing in a row, ...
+EXIT_USAGE = 2            # unknown suite, task field or policy; bad options
+EXIT_EPISODE_ERRORS = 3   # every episode ran, but some are stored as errors (policy_error, server_error)
+EXIT_STORAGE = 4          # the run folder cannot be written or read: read-only, disk full, corrupt database
 EXIT_INTERRUPTED = 130
 
 
@@ -31,6 +35,7 @@ def _policy_options(pairs: list[str]) -> dict:
 
 
 def cmd_list(args) -> int:
+    from culinarycut.bench.suite import available_suites, load_suite
     for name in available_suites():
         suite = load_suite(name)
         print(f"{name:<20} {len(suite.tasks):4d} tasks {suite.episode_count:6d} episodes  {suite.description}")
@@ -38,6 +43,7 @@ def cmd_list(args) -> int:
 
 
 def cmd_show(args) -> int:
+    from culinarycut.bench.suite import load_suite
     suite = load_suite(args.suite)
     print(f"{suite.name}: {suite.description}\npolicy {suite.policy['name']}, {suite.episode_count} episodes")
     for task in suite.tasks:
@@ -47,8 +53,11 @@ def cmd_show(args) -> int:
 
 
 def cmd_run(args) -> int:
-    from culinarycut.bench.runner import BadRunInput, RunConfig, RunError, command_line, run_suite
-    from culinarycut.bench.store import ResultStore
+    from culinarycut.bench.run_errors import BadRunInput, RunError, StorageFault, retry_errors_command
+    from culinarycut.bench.runner import RunConfig, command_line, run_suite
+    from culinarycut.bench.storage_faults import storage_faults
+    from culinarycut.bench.store import DATABASE_NAME, ResultStore
+    from culinarycut.bench.suite import load_suite
     from culinarycut.bench.tables import results_text
     suite = load_suite(args.suite)
     if args.trials:
@@ -64,34 +73,47 @@ def cmd_run(args) -> int:
     config = RunConfig(suite=suite, servers=args.server, out=out, policy=policy, policy_options=options,
                        workers=args.workers, scheduler=args.scheduler, record_failures=args.record_failures,
                        allow_mixed_versions=args.allow_mixed_versions, retry_errors=args.retry_errors,
-                       act_timeout_s=args.act_timeout, progress=not args.no_progress,
-                       command_line=command_line(args.argv))
+                       act_timeout_s=args.act_timeout,
+                       max_consecutive_policy_errors=args.max_consecutive_policy_errors,
+                       progress=not args.no_progress, command_line=command_line(args.argv))
     try:
         summary = run_suite(config)
+        with storage_faults(out / DATABASE_NAME, f"resume with: {config.command_line}"), ResultStore(out) as store:
+            rows = store.episodes()
     except BadRunInput as err:  # only the run's input: a ValueError from inside a run is no usage error
         print(f"error: {err}", file=sys.stderr)
         return EXIT_USAGE
+    except StorageFault as err:
+        print(f"error: {err}", file=sys.stderr)
+        return EXIT_STORAGE
     except RunError as err:
         print(f"error: {err}", file=sys.stderr)
         return EXIT_RUN_FAILED
-    with ResultStore(out) as store:
-        rows = store.episodes()
     print(results_text(rows, f"{suite.name} with {policy}: {len(rows)} of {summary.episodes} episodes in {out}"))
     retried = f", {summary.retried} stored errors run again" if summary.retried else ""
     print(f"this run: {summary.ran} episodes in {summary.wall_s:.1f} s ({summary.already_done} were already stored"
           f"{retried})")
     if summary.interrupted:
         return EXIT_INTERRUPTED
-    return 0
+    if summary.errors:
+        counts = ", ".join(f"{count} {reason}" for reason, count in sorted(summary.errors.items()))
+        print(f"error: not every episode ran cleanly: {counts} stored (each row's error column says why); "
+              f"run them again with:\n  {retry_errors_command(config.command_line)}", file=sys.stderr)
+        return EXIT_EPISODE_ERRORS
+    return EXIT_CLEAN
 
 
 def cmd_report(args) -> int:
     from culinarycut.bench.report import ReportError, write_report
+    from culinarycut.bench.run_errors import StorageFault
     try:
         written = write_report([Path(d) for d in args.runs], Path(args.out) if args.out else None)
     except ReportError as err:
         print(f"error: {err}", file=sys.stderr)
         return EXIT_USAGE
+    except StorageFault as err:
+        print(f"error: {err}", file=sys.stderr)
+        return EXIT_STORAGE
     for path in written:
         print(f"wrote {path}")
     return 0
@@ -133,6 +155,9 @@ def register(sub) -> None:
                           "RESOURCE_EXHAUSTED, or policy_error), replacing their rows")
     run.add_argument("--act-timeout", type=float, default=60.0,
                      help="s a policy may take for one action before the episode is a policy_error")
+    run.add_argument("--max-consecutive-policy-errors", type=int, default=DEFAULT_MAX_CONSECUTIVE_POLICY_ERRORS,
+                     metavar="N", help="stop the run after N policy_error episodes in a row, e.g. a model server "
+                                       "gone (default %(default)s; 0: never)")
     run.add_argument("--no-progress", action="store_true", help="no progress bar")
     run.set_defaults(bench_func=cmd_run)
 
@@ -150,6 +175,8 @@ def validate_run_args(args) -> str | None:
         return "--trials must be at least 1"
     if args.act_timeout <= 0:
         return "--act-timeout must be positive"
+    if args.max_consecutive_policy_errors < 0:
+        return "--max-consecutive-policy-errors must be 0 (never stop) or more"
     if not args.server:
         args.server = ["127.0.0.1:50051"]
     return None
@@ -162,6 +189,7 @@ def run_command(args) -> int:
         if problem:
             print(f"error: {problem}", file=sys.stderr)
             return EXIT_USAGE
+    from culinarycut.bench.suite import SuiteError
     try:
         return args.bench_func(args)
     except (SuiteError, UsageError) as err:  # an unknown suite or task pattern, a bad --policy-option

@@ -72,7 +72,8 @@ def _servers(args):
 
 
 def cmd_generate(args) -> int:
-    from culinarycut.bench.runner import RunError, server_versions
+    from culinarycut.bench.preflight import server_versions
+    from culinarycut.bench.run_errors import RunError
     from culinarycut.datasets.generate import RetryPolicy, generate
     config = config_from_args(args)
     if args.attempts < 1:

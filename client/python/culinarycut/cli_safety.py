@@ -10,6 +10,8 @@ from pathlib import Path
 EXIT_USAGE = 2
 EXIT_FAILED = 1
 EXIT_INTERRUPTED = 130
+# Where the server reads the force model from (culinarycut.safety.asset.default_model_path).
+MODEL_LOCATION = "$CULINARYCUT_ASSETS_DIR/safety/force_model.json, else assets/safety/force_model.json in the checkout"
 
 
 def _numbers(option: str):
@@ -59,7 +61,7 @@ def cmd_dataset(args) -> int:
 
 
 def cmd_fit(args) -> int:
-    from culinarycut.safety.asset import write_asset
+    from culinarycut.safety.asset import default_model_path, write_asset
     from culinarycut.safety.dataset import HEADER_FILE, DatasetMismatch
     from culinarycut.safety.model_io import asset_from_fit, fit_dataset
     directory = Path(args.dataset)
@@ -71,7 +73,8 @@ def cmd_fit(args) -> int:
         result, x, rows, header = fit_dataset(directory, seed=args.seed, held_out_fraction=args.held_out)
     except DatasetMismatch as err:
         raise ValueError(f"DATASET: {err}") from None
-    asset = asset_from_fit(result, x, header, directory, Path(args.out))
+    out = Path(args.out) if args.out else default_model_path()
+    asset = asset_from_fit(result, x, header, directory, out)
     for name, rmse in result.cross_validation.items():
         print(f"  {name:<28} {len(_family(name)):2d} monomials, cross-validated RMSE {rmse:.3f} N"
               + ("  <- chosen" if name == result.family else ""))
@@ -83,8 +86,8 @@ def cmd_fit(args) -> int:
     if not result.monotonic_in_speed:
         print("error: the fitted model falls with speed somewhere on the grid; not written", file=sys.stderr)
         return EXIT_FAILED
-    write_asset(asset, Path(args.out))
-    print(f"wrote {args.out}")
+    write_asset(asset, out)
+    print(f"wrote {out}")
     if args.plots:
         from culinarycut.safety.model_io import inputs_and_forces
         from culinarycut.safety.plots import plot_fit
@@ -105,10 +108,15 @@ def _monomial(exponents: list[float]) -> str:
 
 
 def cmd_predict(args) -> int:
-    from culinarycut.safety.asset import AssetError, ForceModel
+    from culinarycut.safety.asset import AssetError, ForceModel, default_model_path
     from culinarycut.safety.speed_limit import material_inputs, safe_speed
+    path = Path(args.model) if args.model else default_model_path()
+    if not path.is_file():
+        given = "" if args.model else " (the server's: set CULINARYCUT_ASSETS_DIR to the folder holding safety/)"
+        raise ValueError(f"--model: no force model at {path}{given}; pass --model FILE, or fit one with "
+                         "`culinarycut safety fit`")
     try:
-        model = ForceModel.load(Path(args.model))
+        model = ForceModel.load(path)
     except (OSError, AssetError) as err:
         raise ValueError(f"--model: {err}") from None
     for option, value in (("--speed", args.speed), ("--youngs-mpa", args.youngs_mpa), ("--yield-kpa", args.yield_kpa),
@@ -151,14 +159,14 @@ def register(sub) -> None:
 
     fit = commands.add_parser("fit", help="fit the posynomial force model to a dataset and write the asset")
     fit.add_argument("dataset", metavar="DATASET", help="a folder made by `culinarycut safety dataset`")
-    fit.add_argument("--out", default="assets/safety/force_model.json", help="the asset (default %(default)s)")
+    fit.add_argument("--out", help=f"the asset (default: the one the server reads, {MODEL_LOCATION})")
     fit.add_argument("--held-out", type=float, default=0.2, help="fraction of samples held out (default %(default)s)")
     fit.add_argument("--seed", type=int, default=0, help="seed of the held-out split and the folds")
     fit.add_argument("--plots", metavar="DIR", help="also draw predicted vs measured and force vs speed (PNG) there")
     fit.set_defaults(safety_func=cmd_fit)
 
     pred = commands.add_parser("predict", help="the model's peak force at a speed and the safe speed under F_max")
-    pred.add_argument("--model", default="assets/safety/force_model.json", help="the asset (default %(default)s)")
+    pred.add_argument("--model", help=f"the asset (default: the one the server reads, {MODEL_LOCATION})")
     pred.add_argument("--speed", type=float, required=True, help="knife speed, m/s")
     pred.add_argument("--youngs-mpa", type=float, required=True, help="Young's modulus, MPa")
     pred.add_argument("--yield-kpa", type=float, required=True, help="yield stress, kPa")

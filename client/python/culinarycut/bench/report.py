@@ -1,8 +1,10 @@
-"""`culinarycut bench report`: one stored run, or several side by side, as Markdown (report.md with its
-PNG files) and one self-contained HTML page (report.html: images and videos inlined).
+"""`culinarycut bench report`: one stored run, or several side by side, as Markdown (report.md) and an HTML
+page (report.html: charts inlined), beside report_files/ (the PNGs and the failure videos).
 
 The report is built once as a list of blocks (headings, text, tables, images, videos) and written in
-both forms, so the two always say the same.
+both forms, so the two always say the same. The page shows each failure video as a thumbnail linked to
+its file, so it stays small however many tasks fail. Runs side by side are named by letters (A, B, ...)
+in the tables and charts; the first table says which run each letter is.
 """
 from __future__ import annotations
 
@@ -11,11 +13,13 @@ import html
 from dataclasses import dataclass
 from pathlib import Path
 
-from culinarycut.bench import report_charts, safety_figure, safety_tables
+from culinarycut.bench import report_charts, report_media, safety_figure, safety_tables
+from culinarycut.bench.storage_faults import storage_faults
 from culinarycut.bench.store import DATABASE_NAME, ResultStore
 from culinarycut.bench.tables import markdown_table, rate_cells, split_partial, success_by
 
-MAX_FORCE_PANELS = 12  # force-time overlays for at most this many tasks (the first ones)
+AGAIN = "run the report again"  # what a storage fault's message ends with
+FORCE_PANELS_PER_FIGURE = 12  # force-time panels per image: every task is drawn, a dozen per figure
 
 
 class ReportError(ValueError):
@@ -24,11 +28,17 @@ class ReportError(ValueError):
 
 @dataclass
 class Run:
-    label: str
+    label: str             # policy @ server version (build); with the folder's name where two would be equal
     folder: Path
     metadata: dict
     rows: list[dict]
     traces: list[tuple[str, dict]]
+    short: str = ""        # A, B, ... where several runs stand side by side; the label alone otherwise
+
+    @property
+    def title(self) -> str:
+        """The letter and the label, where the run has a letter."""
+        return self.label if self.short == self.label else f"{self.short}: {self.label}"
 
 
 @dataclass
@@ -44,7 +54,7 @@ class Block:
 def load_run(folder: Path) -> Run:
     if not (folder / DATABASE_NAME).is_file():
         raise ReportError(f"{folder} holds no run ({DATABASE_NAME} is missing); give the --out folder of bench run")
-    with ResultStore(folder) as store:
+    with storage_faults(folder / DATABASE_NAME, AGAIN), ResultStore(folder) as store:
         rows = store.episodes()
         traces = [(row["task"], store.trace(row["task"], row["trial"]) or {"time_s": [], "force_n": []})
                   for row in rows]
@@ -57,11 +67,13 @@ def load_run(folder: Path) -> Run:
     return Run(label, folder, metadata, rows, traces)
 
 
-def _distinct_labels(runs: list[Run]) -> None:
+def _name_runs(runs: list[Run]) -> None:
+    """Distinct labels, and a letter for each run where several are compared (table headers stay short)."""
     labels = [r.label for r in runs]
-    for run in runs:
+    for index, run in enumerate(runs):
         if labels.count(run.label) > 1:
             run.label = f"{run.label} [{run.folder.name}]"
+        run.short = chr(ord("A") + index) if len(runs) > 1 else run.label
 
 
 def _cell(rows: list[dict], key) -> dict[str, list[str]]:
@@ -72,7 +84,7 @@ def _comparison(runs: list[Run], key, title: str, first_column: str) -> list[Blo
     """One table: a row per value of `key`, success / rate / interval for each run side by side."""
     cells = [_cell(run.rows, key) for run in runs]
     keys = list(dict.fromkeys(k for c in cells for k in c))
-    header = [first_column] + [f"{name} ({run.label})" if len(runs) > 1 else name
+    header = [first_column] + [f"{run.short} {name}" if len(runs) > 1 else name
                                for run in runs for name in ("success", "rate", "95 % CI")]
     rows = [[k] + [v for c in cells for v in c.get(k, ["-", "-", "-"])] for k in keys]
     return [Block("heading", title), Block("table", header=header, rows=rows)]
@@ -92,7 +104,7 @@ def _split_blocks(runs: list[Run]) -> list[Block]:
                 [f"{100 * t['share_with_k'][k]:.0f} %" if k in t["share_with_k"] else "" for k in range(most)]
                 for t in table]
         if len(runs) > 1:
-            blocks.append(Block("text", run.label))
+            blocks.append(Block("text", run.title))
         blocks.append(Block("table", header=header, rows=rows))
     return blocks
 
@@ -107,7 +119,7 @@ def _topology_blocks(runs: list[Run]) -> list[Block]:
         keys = list(dict.fromkeys(list(on) + list(off)))
         rows = [[k] + on.get(k, ["-"] * 3)[:2] + off.get(k, ["-"] * 3)[:2] for k in keys]
         if len(runs) > 1:
-            blocks.append(Block("text", run.label))
+            blocks.append(Block("text", run.title))
         blocks.append(Block("table", header=["task", "on: success", "on: rate", "off: success", "off: rate"],
                             rows=rows))
     return blocks
@@ -125,7 +137,7 @@ def _safety_blocks(runs: list[Run]) -> list[Block]:
         if not safety_tables.is_ablation(run.rows):
             continue
         if len(runs) > 1:
-            blocks.append(Block("text", run.label))
+            blocks.append(Block("text", run.title))
         header, rows = safety_tables.settings_table(run.rows)
         blocks.append(Block("table", header=header, rows=rows))
         header, rows = safety_tables.food_table(run.rows)
@@ -149,17 +161,34 @@ def _failure_blocks(runs: list[Run]) -> list[Block]:
             if row["outcome"] != "success" and row["task"] not in first:
                 first[row["task"]] = row
         if not first:
-            blocks.append(Block("text", f"{run.label}: no failures."))
+            blocks.append(Block("text", f"{run.title}: no failures."))
             continue
         rows = [[r["task"], str(r["trial"]), r["end_reason"], r["instruction"],
                  (r["error"] or r["score_summary"] or "")[:160]] for r in first.values()]
-        blocks.append(Block("text", run.label))
+        blocks.append(Block("text", run.title))
         blocks.append(Block("table", header=["task", "trial", "ended by", "instruction", "what happened"], rows=rows))
+        # Runs side by side film the same tasks: each run's files get its letter.
+        prefix = f"{run.short}_" if len(runs) > 1 else ""
         for row in first.values():
             if row["video"] and (run.folder / row["video"]).is_file():
                 blocks.append(Block("video", f"{row['task']}, trial {row['trial']}",
                                     data=(run.folder / row["video"]).read_bytes(),
-                                    name=Path(row["video"]).name))
+                                    name=prefix + Path(row["video"]).name))
+    return blocks
+
+
+def _force_blocks(runs: list[Run]) -> list[Block]:
+    """Knife force over time for every task, FORCE_PANELS_PER_FIGURE tasks to a figure."""
+    tasks = list(dict.fromkeys(r["task"] for run in runs for r in run.rows))
+    traces = [(run.short, report_charts.traces_by_task(run.traces)) for run in runs]
+    blocks = [Block("heading", "Knife force over time")]
+    for page, first in enumerate(range(0, len(tasks), FORCE_PANELS_PER_FIGURE)):
+        chosen = tasks[first:first + FORCE_PANELS_PER_FIGURE]
+        caption = "Force at the wrist, every trial"
+        if len(tasks) > FORCE_PANELS_PER_FIGURE:
+            caption += f": tasks {first + 1}-{first + len(chosen)} of {len(tasks)}"
+        blocks.append(Block("image", caption, data=report_charts.force_overlays(traces, chosen),
+                            name=f"force_time{'_' + str(page + 1) if page else ''}.png"))
     return blocks
 
 
@@ -170,36 +199,37 @@ def build_blocks(runs: list[Run]) -> list[Block]:
     for run in runs:
         overall = success_by(run.rows, lambda _: "all")[0]
         harness = sum(r["wall_s"] - r["env_wall_s"] - r["policy_wall_s"] for r in run.rows)
-        summary_rows.append([run.label, str(run.folder)] + rate_cells(overall)[1:] +
+        summary_rows.append([run.short, run.label, str(run.folder)] + rate_cells(overall)[1:] +
                             [f"{sum(r['wall_s'] for r in run.rows) / len(run.rows):.1f}",
                              f"{100 * harness / max(1e-9, sum(r['wall_s'] for r in run.rows)):.1f} %"])
-    blocks.append(Block("table", header=["run", "folder", "success", "rate", "95 % CI (Wilson)", "errors",
-                                         "wall s / episode", "harness share"], rows=summary_rows))
+    header = ["run", "policy @ server", "folder", "success", "rate", "95 % CI (Wilson)", "errors",
+              "wall s / episode", "harness share"]
+    if len(runs) == 1:  # one run: its label is the name, no letter needed
+        header, summary_rows = header[1:], [row[1:] for row in summary_rows]
+    blocks.append(Block("table", header=header, rows=summary_rows))
     blocks += _comparison(runs, "task", "Success per task", "task")
     for column, title in (("style", "Success per cut style"), ("state", "Success per cut state"),
                           ("food", "Success per food"), ("language", "Success per language split")):
         blocks += _comparison(runs, column, title, column)
     if any(row["group_name"] for run in runs for row in run.rows):
         blocks += _comparison(runs, "group_name", "Success per group", "group")
-    blocks.append(Block("image", "Success per food", data=report_charts.success_per_food(
-        [(run.label, run.rows) for run in runs]), name="success_per_food.png"))
+    named_rows = [(run.short, run.rows) for run in runs]
+    blocks.append(Block("image", "Success per food", data=report_charts.success_per_food(named_rows),
+                        name="success_per_food.png"))
     ratio_foods = sorted({r["food"] for run in runs for r in run.rows if r["state"] == "ratio"})
     for food in ratio_foods:
-        if report_charts.radar_sides([(run.label, run.rows) for run in runs], food):
-            blocks.append(Block("image", f"Ratio cuts on {food}", data=report_charts.ratio_radar(
-                [(run.label, run.rows) for run in runs], food), name=f"ratio_radar_{food}.png"))
+        if report_charts.radar_sides(named_rows, food):
+            blocks.append(Block("image", f"Ratio cuts on {food}", data=report_charts.ratio_radar(named_rows, food),
+                                name=f"ratio_radar_{food}.png"))
     if any(r["state"] == "split" for run in runs for r in run.rows):
         blocks += _split_blocks(runs)
     if len({r["topology"] for run in runs for r in run.rows}) > 1:
         blocks += _topology_blocks(runs)
     if any(safety_tables.is_ablation(run.rows) for run in runs):
         blocks += _safety_blocks(runs)
-    tasks = list(dict.fromkeys(r["task"] for run in runs for r in run.rows))[:MAX_FORCE_PANELS]
-    blocks.append(Block("heading", "Knife force over time"))
-    blocks.append(Block("image", "Force at the wrist, every trial", data=report_charts.force_overlays(
-        [(run.label, report_charts.traces_by_task(run.traces)) for run in runs], tasks), name="force_time.png"))
+    blocks += _force_blocks(runs)
     blocks += _failure_blocks(runs)
-    errors = [[run.label, r["task"], str(r["trial"]), r["end_reason"], r["error"][:200]]
+    errors = [[run.short, r["task"], str(r["trial"]), r["end_reason"], r["error"][:200]]
               for run in runs for r in run.rows if r["outcome"] == "error"]
     if errors:
         blocks += [Block("heading", "Errors"), Block("table", header=["run", "task", "trial", "kind", "message"],
@@ -222,7 +252,8 @@ def to_markdown(blocks: list[Block], files: Path) -> str:
     return "\n\n".join(parts) + "\n"
 
 
-def to_html(blocks: list[Block]) -> str:
+def to_html(blocks: list[Block], files: Path) -> str:
+    """The page: charts inline; each video a thumbnail linked to its file in `files` (beside the page)."""
     body = []
     for block in blocks:
         if block.kind == "heading":
@@ -235,15 +266,21 @@ def to_html(blocks: list[Block]) -> str:
             rows = "".join("<tr>" + "".join(f"<td>{html.escape(str(c))}</td>" for c in row) + "</tr>"
                            for row in block.rows)
             body.append(f"<table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>")
-        else:
-            kind = "image/png" if block.kind == "image" else "image/gif"
-            source = f"data:{kind};base64,{base64.b64encode(block.data).decode()}"
+        elif block.kind == "image":
+            source = f"data:image/png;base64,{base64.b64encode(block.data).decode()}"
             body.append(f"<figure><img src=\"{source}\" alt=\"{html.escape(block.text)}\">"
                         f"<figcaption>{html.escape(block.text)}</figcaption></figure>")
-    style = ("body{font-family:sans-serif;max-width:1200px;margin:2em auto;color:#222}"
-             "table{border-collapse:collapse;margin:1em 0;font-size:14px}"
-             "th,td{border:1px solid #ccc;padding:3px 8px;text-align:right}"
-             "td:first-child,th:first-child{text-align:left}img{max-width:100%}")
+        else:
+            thumbnail = "data:image/jpeg;base64," + base64.b64encode(report_media.last_frame_jpeg(block.data)).decode()
+            link, caption = html.escape(f"{files.name}/{block.name}"), html.escape(block.text)
+            body.append(f"<figure class=\"video\"><a href=\"{link}\"><img src=\"{thumbnail}\" alt=\"{caption}\"></a>"
+                        f"<figcaption>{caption} (last frame; <a href=\"{link}\">the video</a>)</figcaption></figure>")
+    # A table wider than the window scrolls inside its own box; the page itself never scrolls sideways.
+    style = ("body{font-family:sans-serif;max-width:1200px;margin:2em auto;padding:0 1em;color:#222}"
+             "table{border-collapse:collapse;margin:1em 0;font-size:13px;display:block;max-width:100%;overflow-x:auto}"
+             "th,td{border:1px solid #ccc;padding:3px 6px;text-align:right}"
+             "td:first-child,th:first-child{text-align:left}img{max-width:100%}"
+             "figure.video{display:inline-block;margin:0.5em}")
     return (f"<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{html.escape(blocks[0].text)}</title>"
             f"<style>{style}</style></head><body>{''.join(body)}</body></html>\n")
 
@@ -251,12 +288,13 @@ def to_html(blocks: list[Block]) -> str:
 def write_report(folders: list[Path], out: Path | None = None) -> list[Path]:
     """Writes report.md (+ report_files/) and report.html into `out` (default: the first run's folder)."""
     runs = [load_run(folder) for folder in folders]
-    _distinct_labels(runs)
+    _name_runs(runs)
     out = out or folders[0]
     files = out / "report_files"
-    files.mkdir(parents=True, exist_ok=True)
     blocks = build_blocks(runs)
     markdown, page = out / "report.md", out / "report.html"
-    markdown.write_text(to_markdown(blocks, files))
-    page.write_text(to_html(blocks))
+    with storage_faults(out, f"{AGAIN} (or give another --out)"):
+        files.mkdir(parents=True, exist_ok=True)
+        markdown.write_text(to_markdown(blocks, files))
+        page.write_text(to_html(blocks, files))
     return [markdown, page]

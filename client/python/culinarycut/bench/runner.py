@@ -1,6 +1,7 @@
 """`culinarycut bench run`: every episode of a suite that has no row yet (with --retry-errors, also those
 whose row is an error), on one or more servers through Dask, each result stored as it ends; a progress
-bar; Ctrl-C, a lost server or a failed task stops cleanly and says how to resume."""
+bar; Ctrl-C, a lost server, a policy that keeps failing, a storage fault or a failed task stops cleanly and
+says how to resume."""
 from __future__ import annotations
 
 import json
@@ -14,22 +15,13 @@ from pathlib import Path
 from culinarycut.bench.dispatch import AllServersLost, WorkerResult, run_on_worker, start_cluster
 from culinarycut.bench.episode import EpisodeOptions
 from culinarycut.bench.episode_scene import suite_episodes
-from culinarycut.bench.store import ResultStore
+from culinarycut.bench.policy_error_streak import DEFAULT_MAX_CONSECUTIVE_POLICY_ERRORS, PolicyErrorStreak
+from culinarycut.bench.preflight import check_policy_ready, check_tasks, server_versions
+from culinarycut.bench.run_errors import BadRunInput, RunError
+from culinarycut.bench.storage_faults import storage_faults
+from culinarycut.bench.store import DATABASE_NAME, ResultStore
 from culinarycut.bench.suite import Suite
-from culinarycut.client import Client
-from culinarycut.errors import CulinaryCutError
 from culinarycut.policies.registry import UnknownPolicy, make_policy
-
-PREFLIGHT_TIMEOUT_S = 10.0
-
-
-class RunError(RuntimeError):
-    """The run cannot start (or go on); the message says why and what to do."""
-
-
-class BadRunInput(ValueError):
-    """The run was asked for something that cannot be: an unknown policy or bad policy options. Raised
-    before anything starts; every other fault of a run is a RunError."""
 
 
 @dataclass
@@ -45,6 +37,8 @@ class RunConfig:
     allow_mixed_versions: bool = False
     retry_errors: bool = False       # rerun the episodes stored with outcome error, replacing their rows
     act_timeout_s: float = 60.0
+    # Stop after this many policy_error episodes in a row (a model server gone); 0: never.
+    max_consecutive_policy_errors: int = DEFAULT_MAX_CONSECUTIVE_POLICY_ERRORS
     progress: bool = True
     command_line: str = ""  # how this run was started, for the resume hint
 
@@ -58,20 +52,7 @@ class RunSummary:
     successes: int         # of all stored episodes
     wall_s: float
     interrupted: bool = False
-
-
-def server_versions(servers: list[str]) -> dict[str, tuple[str, str]]:
-    """(version, build id) of each server; RunError naming any that does not answer."""
-    versions = {}
-    for server in servers:
-        try:
-            with Client(server, timeout_s=PREFLIGHT_TIMEOUT_S) as client:
-                info = client.server_info()
-        except CulinaryCutError as err:
-            raise RunError(f"server {server} is not reachable ({err.code.name}: {err.details}); start it with "
-                           f"culinarycut-server --listen {server}, or pass the right --server") from None
-        versions[server] = (info.version, info.build_id)
-    return versions
+    errors: dict[str, int] = field(default_factory=dict)  # the suite's episodes stored as errors, by end_reason
 
 
 def _version_text(version: tuple[str, str]) -> str:
@@ -119,16 +100,6 @@ def check_identity(store: ResultStore, config: RunConfig) -> None:
     store.set_metadata({**identity, "schema": "1", "started_at": stored.get("started_at", str(time.time()))})
 
 
-def check_tasks(server: str, suite: Suite) -> None:
-    """Every task can be said in its language split (one instruction each), before any episode runs."""
-    with Client(server, timeout_s=PREFLIGHT_TIMEOUT_S) as client:
-        for task in suite.tasks:
-            try:
-                client.tasks.generate_instructions(task.cut_spec(), seed=0, count=1, split=task.language)
-            except CulinaryCutError as err:
-                raise RunError(f"suite {suite.name}, task {task.name}: {err.details}") from None
-
-
 def _progress(total: int, done: int, enabled: bool):
     from tqdm import tqdm
     return tqdm(total=total, initial=done, unit="episode", disable=not enabled, dynamic_ncols=True,
@@ -166,29 +137,47 @@ def _task_failure(err: Exception, episode: str, stored: int, total: int, resume:
     return RunError(f"{episode} failed on its worker: {type(err).__name__}: {err}{at}. {where}")
 
 
+def _stored_errors(store: ResultStore, episodes) -> dict[str, int]:
+    """The suite's episodes stored with outcome error, counted by end_reason."""
+    keys = {e.key for e in episodes}
+    counts: dict[str, int] = {}
+    for row in store.episodes("outcome = 'error'"):
+        if (row["task"], row["trial"]) in keys:
+            counts[row["end_reason"]] = counts.get(row["end_reason"], 0) + 1
+    return counts
+
+
 def run_suite(config: RunConfig) -> RunSummary:
     """Runs what is missing of the suite (and, with retry_errors, what is stored as an error). Raises
     BadRunInput for an unknown policy or bad options and RunError when the run cannot start or go on
-    (servers down or lost, another run's folder, mixed versions, an episode task that failed)."""
+    (servers down or lost, a policy not ready or failing episode after episode, another run's folder, mixed
+    versions, an episode task that failed), StorageFault when the run folder cannot be written or read."""
     started = time.perf_counter()
     try:
-        make_policy(config.policy, config.policy_options)  # unknown names and bad options fail here
+        policy = make_policy(config.policy, config.policy_options)  # unknown names and bad options fail here
     except (UnknownPolicy, ValueError) as err:
         raise BadRunInput(str(err)) from None
     versions = server_versions(config.servers)
     resume = config.command_line or "the same command"
-    with ResultStore(config.out) as store:
-        check_identity(store, config)
-        allowed = check_versions(versions, store, config.allow_mixed_versions)
+    database, resume_step = config.out / DATABASE_NAME, f"resume with: {resume}"
+    with storage_faults(database, resume_step):
+        store = ResultStore(config.out)
+    with store:
+        with storage_faults(database, resume_step):
+            check_identity(store, config)
+            allowed = check_versions(versions, store, config.allow_mixed_versions)
+            episodes = suite_episodes(config.suite)
+            retry_keys = store.error_keys() if config.retry_errors else set()
+            done_keys = store.done_keys() - retry_keys
+            successes = len(store.episodes("outcome = 'success'"))
         check_tasks(config.servers[0], config.suite)
-        episodes = suite_episodes(config.suite)
-        retry_keys = store.error_keys() if config.retry_errors else set()
-        done_keys = store.done_keys() - retry_keys
         pending = [e for e in episodes if e.key not in done_keys]
         already = len(episodes) - len(pending)
+        if pending:
+            check_policy_ready(config.policy, policy)
         options = EpisodeOptions(policy=config.policy, policy_options=config.policy_options,
                                  act_timeout_s=config.act_timeout_s, record_video=config.record_failures)
-        successes = len(store.episodes("outcome = 'success'"))
+        streak = PolicyErrorStreak(config.max_consecutive_policy_errors)
         ran = retried = 0
         interrupted = False
         bar = _progress(len(episodes), already, config.progress)
@@ -207,12 +196,16 @@ def run_suite(config: RunConfig) -> RunSummary:
                         spec = futures[future]
                         raise _task_failure(err, f"episode {spec.task.name} trial {spec.trial}",
                                             len(store.done_keys()), len(episodes), resume) from None
-                    check_row_version(done.result.row, allowed, len(store.done_keys()), resume)
-                    retrying = (done.result.row["task"], done.result.row["trial"]) in retry_keys
-                    if _store_result(store, config.out, done, retrying):
+                    row = done.result.row
+                    check_row_version(row, allowed, len(store.done_keys()), resume)
+                    retrying = (row["task"], row["trial"]) in retry_keys
+                    with storage_faults(database, resume_step):
+                        recorded = _store_result(store, config.out, done, retrying)
+                    if recorded:
                         ran += 1
                         retried += retrying
-                        successes += done.result.row["outcome"] == "success"
+                        successes += row["outcome"] == "success"
+                        streak.add(row, already + ran, len(episodes), resume)
                     bar.update(1)
                     stored = already + ran
                     bar.set_postfix_str(f"success {successes}/{stored} ({100.0 * successes / max(1, stored):.0f} %)")
@@ -224,12 +217,14 @@ def run_suite(config: RunConfig) -> RunSummary:
                 dask_client.close()
             if cluster is not None:
                 cluster.close()
-        if interrupted:
+        with storage_faults(database, resume_step):
             stored = len(store.done_keys())
+            errors = _stored_errors(store, episodes)
+        if interrupted:
             print(f"\nstopped: {stored} of {len(episodes)} episodes are stored in {config.out}; "
                   f"resume with:\n  {resume}", file=sys.stderr)
     return RunSummary(episodes=len(episodes), already_done=already, ran=ran, retried=retried, successes=successes,
-                      wall_s=time.perf_counter() - started, interrupted=interrupted)
+                      wall_s=time.perf_counter() - started, interrupted=interrupted, errors=errors)
 
 
 def command_line(argv: list[str]) -> str:

@@ -14,8 +14,10 @@ A policy is a small class; the runner makes one per episode from its registered 
 `observation` is CulinaryCutEnv's (ManiSkill's layout); `info` at reset holds the seed, the episode's
 `session` (client and session id, for policies that plan on the server such as the oracle), the
 scene's objects and `control_frequency_hz`. A policy that is done early sets `finished`; the episode
-then ends. Optional: `close()` (called when the episode ends) and `latency_summary()` (a dict stored
-with the episode as `policy_latency`), as the model adapters in policies/ have.
+then ends. Optional: `close()` (called when the episode ends), `latency_summary()` (a dict stored
+with the episode as `policy_latency`) and `preflight()` (called once on a fresh instance before a run's
+first episode; raising stops the run, e.g. a model server that does not answer), as the model adapters in
+policies/ have.
 """
 from __future__ import annotations
 

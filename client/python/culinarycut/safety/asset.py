@@ -4,16 +4,25 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from pathlib import Path
 
 import numpy as np
 
+from culinarycut.launch import CHECKOUT_ROOT
 from culinarycut.safety.posynomial import INPUTS, Posynomial
 
 FORMAT = "culinarycut.safety.force_model"
 VERSION = 1
 TARGET = "peak_blade_force_n"
 OUT_OF_RANGE_FACTOR = 1.5  # outside the data the prediction is scaled up: extrapolation errs on the safe side
+
+
+def default_model_path() -> Path:
+    """Where the server reads its force model: $CULINARYCUT_ASSETS_DIR/safety/force_model.json, else this
+    checkout's assets/safety/force_model.json, whatever the working folder."""
+    assets = os.environ.get("CULINARYCUT_ASSETS_DIR") or CHECKOUT_ROOT / "assets"
+    return Path(assets) / "safety" / "force_model.json"
 
 
 class AssetError(ValueError):

@@ -1,0 +1,49 @@
+"""Checks before a run's first episode: every server answers (and says its version), every task can be
+said in its language split, and the policy is ready (a remote model's server answers its handshake)."""
+from __future__ import annotations
+
+from culinarycut.bench.run_errors import RunError
+from culinarycut.bench.suite import Suite
+from culinarycut.client import Client
+from culinarycut.errors import CulinaryCutError
+from culinarycut.policies.base import Policy
+
+PREFLIGHT_TIMEOUT_S = 10.0
+
+
+def server_versions(servers: list[str]) -> dict[str, tuple[str, str]]:
+    """(version, build id) of each server; RunError naming any that does not answer."""
+    versions = {}
+    for server in servers:
+        try:
+            with Client(server, timeout_s=PREFLIGHT_TIMEOUT_S) as client:
+                info = client.server_info()
+        except CulinaryCutError as err:
+            raise RunError(f"server {server} is not reachable ({err.code.name}: {err.details}); start it with "
+                           f"culinarycut-server --listen {server}, or pass the right --server") from None
+        versions[server] = (info.version, info.build_id)
+    return versions
+
+
+def check_tasks(server: str, suite: Suite) -> None:
+    """Every task can be said in its language split (one instruction each), before any episode runs."""
+    with Client(server, timeout_s=PREFLIGHT_TIMEOUT_S) as client:
+        for task in suite.tasks:
+            try:
+                client.tasks.generate_instructions(task.cut_spec(), seed=0, count=1, split=task.language)
+            except CulinaryCutError as err:
+                raise RunError(f"suite {suite.name}, task {task.name}: {err.details}") from None
+
+
+def check_policy_ready(name: str, policy: Policy) -> None:
+    """Runs the policy's optional `preflight()` (a remote model's handshake with its server); a failure
+    stops the run before its first episode instead of storing every episode as a policy_error."""
+    preflight = getattr(policy, "preflight", None)
+    if preflight is None:
+        return
+    try:
+        preflight()
+    except Exception as err:  # whatever the policy raises: it is not ready
+        reason = " ".join(str(err).split())  # one line: a model server's traceback may span many
+        raise RunError(f"policy {name} is not ready, no episode was run: {type(err).__name__}: {reason}; start "
+                       "its model server or pass the right --policy-url") from None
