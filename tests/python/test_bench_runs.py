@@ -139,6 +139,8 @@ def test_the_smoke_suite_runs_end_to_end_and_stores_a_full_row_per_episode(smoke
         cuts = json.loads(row["cuts"])
         assert len(cuts) == row["cuts_required"] >= 1
         assert all(c["position_error_fraction"] < 0.1 for c in cuts)
+        assert all(c["angle_error_deg"] is not None and c["angle_error_deg"] < 9.0 for c in cuts)  # the cut surface
+        assert (row["pivot_deg"] > 20.0) == (row["style"] == "guillotine") and row["saw_strokes"] == 0
         assert row["peak_force_n"] > 1.0 and 0.01 < row["peak_speed_m_s"] < 1.0
         assert row["steps"] > 50 and row["wall_s"] >= row["env_wall_s"] > 0
         assert set(json.loads(row["stage_wall_s"])) >= {"mpm", "physics"}
@@ -231,6 +233,9 @@ def test_the_report_tables_match_the_database_and_the_page_is_self_contained(smo
         line = next(line for line in per_task.splitlines() if line.startswith(f"| {task} |"))
         assert line.count(f"| {successes}/{total} |") == 2  # both runs, side by side
     assert "## Split cuts: partial success" in markdown
+    orientation = markdown.split("## Cut placement and orientation")[1].split("##")[0]
+    assert "![Angle between the cut surface and the target plane](report_files/cut_orientation.png)" in orientation
+    assert orientation.count("| guillotine |") == 2  # a row per run
     for image in re.findall(r"\]\((report_files/[^)]+)\)", markdown):
         assert (tmp_path / image).stat().st_size > 1000
     page = (tmp_path / "report.html").read_text()

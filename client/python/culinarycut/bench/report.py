@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import base64
 import html
+import json
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -20,6 +21,7 @@ from culinarycut.bench.tables import markdown_table, rate_cells, split_partial, 
 
 AGAIN = "run the report again"  # what a storage fault's message ends with
 FORCE_PANELS_PER_FIGURE = 12  # force-time panels per image: every task is drawn, a dozen per figure
+ANGLE_TOLERANCE_DEG = 9.0  # the success rule's angle tolerance (sim/task/success_metrics.h)
 
 
 class ReportError(ValueError):
@@ -177,6 +179,45 @@ def _failure_blocks(runs: list[Run]) -> list[Block]:
     return blocks
 
 
+def _cut_quality_blocks(runs: list[Run]) -> list[Block]:
+    """Per run and style: how far the cut surfaces were from the target plane and the cuts from their place,
+    and the style's signature in the knife's motion; then every run's angle-error distribution."""
+    def median(values):
+        values = sorted(values)
+        return values[len(values) // 2] if values else None
+
+    def number(value, digits=1):
+        return "-" if value is None else f"{value:.{digits}f}"
+
+    rows = []
+    for run in runs:
+        for style in sorted({r["style"] for r in run.rows}):
+            chosen = [r for r in run.rows if r["style"] == style]
+            angles = sorted(report_charts.angle_errors(chosen))
+            positions = [c["position_error_fraction"] for r in chosen for c in json.loads(r.get("cuts") or "[]")
+                         if c.get("placed")]
+            p95 = angles[min(len(angles) - 1, int(0.95 * len(angles)))] if angles else None
+            rows.append([run.short, style, str(len(angles)), number(median(angles)), number(p95),
+                         number(angles[-1] if angles else None), number(100 * max(positions) if positions else None),
+                         number(median([r["saw_strokes"] for r in chosen if r.get("saw_strokes") is not None]), 0),
+                         number(median([r["pivot_deg"] for r in chosen if r.get("pivot_deg") is not None]))])
+    header = ["run", "style", "cuts with a plane", "angle error median (deg)", "p95", "max",
+              "position error max (% of length)", "saw strokes (median)", "pivot (deg, median)"]
+    if len(runs) == 1:
+        header, rows = header[1:], [row[1:] for row in rows]
+    blocks = [Block("heading", "Cut placement and orientation"),
+              Block("text", f"A cut is correct within 10 % of the length of its target and {ANGLE_TOLERANCE_DEG:g} deg "
+                            "of the target plane (the plane of the cut surface the blade left). Saw strokes and pivot "
+                            "are the style's signature in the knife's motion while in the food."),
+              Block("table", header=header, rows=rows)]
+    if any(report_charts.angle_errors(run.rows) for run in runs):
+        blocks.append(Block("image", "Angle between the cut surface and the target plane",
+                            data=report_charts.angle_error_histogram([(run.short, run.rows) for run in runs],
+                                                                     ANGLE_TOLERANCE_DEG),
+                            name="cut_orientation.png"))
+    return blocks
+
+
 def _force_blocks(runs: list[Run]) -> list[Block]:
     """Knife force over time for every task, FORCE_PANELS_PER_FIGURE tasks to a figure."""
     tasks = list(dict.fromkeys(r["task"] for run in runs for r in run.rows))
@@ -227,6 +268,7 @@ def build_blocks(runs: list[Run]) -> list[Block]:
         blocks += _topology_blocks(runs)
     if any(safety_tables.is_ablation(run.rows) for run in runs):
         blocks += _safety_blocks(runs)
+    blocks += _cut_quality_blocks(runs)
     blocks += _force_blocks(runs)
     blocks += _failure_blocks(runs)
     errors = [[run.short, r["task"], str(r["trial"]), r["end_reason"], r["error"][:200]]

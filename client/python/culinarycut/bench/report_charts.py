@@ -52,6 +52,31 @@ def success_per_food(runs: list[tuple[str, list[dict]]]) -> bytes:
     return _png(figure)
 
 
+def angle_errors(rows: list[dict]) -> list[float]:
+    """The measured angle errors (deg) of every required cut of the rows (cuts without a plane left out)."""
+    import json
+    return [cut["angle_error_deg"] for row in rows for cut in json.loads(row.get("cuts") or "[]")
+            if cut.get("angle_error_deg") is not None]
+
+
+def angle_error_histogram(runs: list[tuple[str, list[dict]]], tolerance_deg: float) -> bytes:
+    """Each run's distribution of cut-plane angle errors, with the success rule's tolerance marked."""
+    figure, axes = plt.subplots(figsize=(6.0, 3.2))
+    largest = max([tolerance_deg * 2] + [e for _, rows in runs for e in angle_errors(rows)])
+    bins = [largest * k / 30 for k in range(31)]
+    for i, (label, rows) in enumerate(runs):
+        axes.hist(angle_errors(rows), bins=bins, histtype="step", linewidth=1.5, label=label,
+                  color=COLOURS[i % len(COLOURS)])
+    axes.axvline(tolerance_deg, color="black", linestyle="--", linewidth=1)
+    axes.text(tolerance_deg, axes.get_ylim()[1] * 0.5, f"tolerance {tolerance_deg:g} deg ", fontsize=8, rotation=90,
+              ha="right", va="center")
+    axes.set_xlabel("angle between the cut surface and the target plane (deg)")
+    axes.set_ylabel("cuts")
+    axes.set_title("Cut orientation")
+    axes.legend(fontsize=8)
+    return _png(figure)
+
+
 def _ratio_rows(runs: list[tuple[str, list[dict]]], food: str) -> list[list[dict]]:
     return [[r for r in rows if r["state"] == "ratio" and r["food"] == food] for _, rows in runs]
 
