@@ -114,7 +114,9 @@ std::string CallerPrincipal(const grpc::ServerContext& context) {
   const std::shared_ptr<const grpc::AuthContext> auth = context.auth_context();
   if (!auth) return "";
   const std::vector<grpc::string_ref> token = auth->FindPropertyValues(kPrincipalProperty);
-  if (!token.empty()) return std::string(kPrincipalProperty) + ":" + std::string(token.front().data(), token.front().size());
+  if (!token.empty()) {
+    return std::string(kPrincipalProperty) + ":" + std::string(token.front().data(), token.front().size());
+  }
   // Mutual TLS: the client is its certificate, by fingerprint (the PEM gRPC saw), not its subject.
   const std::vector<grpc::string_ref> certificate = auth->FindPropertyValues("x509_pem_cert");
   if (!certificate.empty()) {

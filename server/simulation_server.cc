@@ -75,8 +75,8 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   const std::string telemetry_host = transport == "tcp" ? telemetry.substr(6) : std::string("127.0.0.1:0");
   if (!options.insecure && !options.telemetry_endpoint.empty() && !IsLoopbackOrUnix(telemetry_host)) {
     throw std::runtime_error("--telemetry " + options.telemetry_endpoint +
-                             " is not on loopback: telemetry shows every session's robot state and is not encrypted. Bind it to "
-                             "tcp://127.0.0.1:PORT, or pass --insecure to accept the risk");
+                             " is not on loopback: telemetry shows every session's robot state and is not "
+                             "encrypted. Bind it to tcp://127.0.0.1:PORT, or pass --insecure to accept the risk");
   }
   if (options.insecure && !protected_port && !IsLoopbackOrUnix(options.listen_address)) {
     spdlog::warn("--insecure: listening on {} without TLS and authentication; anyone who reaches it controls every "
@@ -104,7 +104,8 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   }
   if (options.max_handler_threads < 4) throw std::runtime_error("--max-handler-threads must be at least 4");
   sessions_ = std::make_unique<SessionManager>(options.max_sessions, std::chrono::duration<double>(options.idle_timeout_s),
-                                               MemoryBudgetBytes(options.memory_budget_mb), options.max_sessions_per_owner);
+                                               MemoryBudgetBytes(options.memory_budget_mb),
+                                               options.max_sessions_per_owner);
   render::RendererOptions render_options;
   render_options.robot = robot.visuals;  // the URDF parsed once, by the robot description
   renderer_ = std::make_unique<SharedRenderer>(render_options);

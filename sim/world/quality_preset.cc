@@ -34,8 +34,9 @@ std::vector<std::string> QualityPresetNames() {
 
 std::string QualityNameOf(const MpmResolution& resolution) {
   for (const NamedPreset& preset : kPresets) {
-    if (preset.resolution.dx_m == resolution.dx_m && preset.resolution.particles_per_cell == resolution.particles_per_cell &&
-        preset.resolution.cfl == resolution.cfl) {
+    const MpmResolution& named = preset.resolution;
+    if (named.dx_m == resolution.dx_m && named.particles_per_cell == resolution.particles_per_cell &&
+        named.cfl == resolution.cfl) {
       return preset.name;
     }
   }
