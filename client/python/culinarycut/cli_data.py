@@ -136,7 +136,8 @@ def cmd_teleop(args) -> int:
     spec = client.tasks.parse_instruction(args.instruction)["spec"]
     config = DatasetConfig(name="teleop", seed=args.seed, tasks=(spec,), episodes_per_task=1, quality=args.quality,
                            image_size=args.image_size)
-    variation = {"position_m": [0.5, 0.0], "yaw_deg": 0.0, "scale": 1.0, "food": spec["target_object"]}
+    variation = {"position_m": [0.5, 0.0], "yaw_deg": 0.0, "scale": 1.0, "food": spec["target_object"],
+                 "scene": args.scene}
     scene = {**job_scene(config, variation, args.seed), "task": {"instruction": args.instruction}}
     session = TeleopSession(client, scene, spec, args.seed, Path(args.out), operator=args.operator)
     app = make_app(client, session)
@@ -218,6 +219,7 @@ def register(sub) -> None:
                      help="the task demonstrated (its cut spec is stored with the demonstration)")
     tel.add_argument("--seed", type=int, default=0, help="the scene's reset seed")
     tel.add_argument("--quality", default="draft", help="MPM preset")
+    tel.add_argument("--scene", choices=("table", "kitchen"), default="table", help="where the food stands")
     tel.add_argument("--image-size", type=int, default=224, help="square camera images, pixels")
     tel.add_argument("--host", default="127.0.0.1", help="address the page is served on")
     tel.add_argument("--port", type=int, default=8008, help="port the page is served on")
