@@ -1,5 +1,5 @@
 """Benchmark: the scripted oracle's verdicts under the success rule that scores the cut's orientation (its
-position and the plane of the cut surface), on the smoke suite, one trial of each cucumber continuous-ratio
+position, the plane of the cut surface and the blade's plane in the food), on the smoke suite, one trial of each cucumber continuous-ratio
 task and the coverage suite's apple, banana and cucumber (each in every style: bias, saw and guillotine cuts;
 its melon, potato and similar tasks take 5-12 min an episode here), with each style's
 signature in the knife's motion; the oracle's success in each of the paper's two scenes, from a small
@@ -53,6 +53,14 @@ def run_suite(suite: str, extra: list[str], server: ServerProcess, out: Path, mi
     return time.perf_counter() - started
 
 
+def _spread(values: list[float]) -> dict | None:
+    """Median, 95th percentile and largest of some angle errors (deg); None when there are none."""
+    if not values:
+        return None
+    array = np.asarray(values)
+    return {"median": float(np.median(array)), "p95": float(np.percentile(array, 95)), "max": float(array.max())}
+
+
 def verdicts(out: Path, extra: list[str]) -> dict:
     """Success rate, per style, and the measured cut planes' angle and position errors of one run (the tasks
     its --tasks pattern chose, if any: a run folder may hold more from an earlier, wider run)."""
@@ -64,7 +72,7 @@ def verdicts(out: Path, extra: list[str]) -> dict:
     db.close()
     per_style: dict[str, list[int]] = {}
     signature: dict[str, dict[str, list[float]]] = {}
-    angles, positions, unmeasured = [], [], 0
+    angles, blade_angles, positions, unmeasured = [], [], [], 0
     for style, outcome, cuts, strokes, pivot in rows:
         per_style.setdefault(style, [0, 0])
         per_style[style][0] += 1
@@ -79,12 +87,12 @@ def verdicts(out: Path, extra: list[str]) -> dict:
                 continue
             angles.append(cut["angle_error_deg"])
             positions.append(cut["position_error_fraction"])
-    angles_a = np.asarray(angles)
+            if cut.get("blade_angle_error_deg") is not None:
+                blade_angles.append(cut["blade_angle_error_deg"])
     return {"episodes": len(rows), "episode_wall_s": sum(row[6] for row in chosen),
             "builds": sorted({row[7] for row in chosen}), "successes": sum(s for _, s in per_style.values()), "per_style": per_style,
             "cuts_with_plane": len(angles), "placed_cuts_without_plane": unmeasured,
-            "angle_error_deg": {"median": float(np.median(angles_a)), "p95": float(np.percentile(angles_a, 95)),
-                                "max": float(angles_a.max())} if len(angles) else None,
+            "angle_error_deg": _spread(angles), "blade_angle_error_deg": _spread(blade_angles),
             "position_error_max": float(max(positions)) if positions else None,
             "signature": {style: {"saw_strokes_median": float(np.median(v["saw_strokes"])),
                                   "pivot_deg_median": float(np.median(v["pivot_deg"]))}
@@ -140,20 +148,23 @@ def markdown(results: dict) -> str:
     lines = ["# The oracle's verdicts, orientation scored", "",
              f"Measured {results['date']} on {machine['cpu_model']} ({machine['cores']} cores) by "
              "`bench/oracle_verdicts.py`. A cut is correct when its position is within 1/10 of the object's length "
-             "and the plane of its cut surface (fitted to the particles either side of the blade) within 9 deg of the "
-             "target plane: vertical across the long axis, or tilted 20-35 deg about the edge for bias cuts.", "",
+             "and both its orientations within 9 deg of the target plane (vertical across the long axis, or tilted "
+             "20-35 deg about the edge for bias cuts): the plane of its cut surface, fitted to the particles either "
+             "side of the blade, and the blade's mean plane while its edge passed the food, from the knife's pose.", "",
              f"Server builds that stored the rows: {', '.join(sorted({b for r in results['suites'].values() for b in r['builds']}))} "
              "(a build id is the commit the build was configured at; a local build reconfigures only when CMake "
              "files change).", "",
-             "| suite | episodes | success | normal | bias | guillotine | saw | cuts with a plane | angle error median / p95 / max (deg) | episode wall, summed (s) |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             "| suite | episodes | success | normal | bias | guillotine | saw | cuts with a plane | "
+             "cut surface angle error median / p95 / max (deg) | blade angle error median / p95 / max (deg) | "
+             "episode wall, summed (s) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for name, run in results["suites"].items():
         cells = []
         for style in ("normal", "bias", "guillotine", "saw"):
             n, ok = run["per_style"].get(style, [0, 0])
             cells.append(f"{ok}/{n}" if n else "-")
-        angle = run["angle_error_deg"]
-        angles = f"{angle['median']:.1f} / {angle['p95']:.1f} / {angle['max']:.1f}" if angle else "-"
+        angles = " | ".join(f"{a['median']:.1f} / {a['p95']:.1f} / {a['max']:.1f}" if a else "-"
+                            for a in (run["angle_error_deg"], run.get("blade_angle_error_deg")))
         lines.append(f"| {name} | {run['episodes']} | {run['successes'] / max(1, run['episodes']):.0%} | "
                      + " | ".join(cells) + f" | {run['cuts_with_plane']} (placed without: {run['placed_cuts_without_plane']}) "
                      f"| {angles} | {run['episode_wall_s']:.0f} |")

@@ -123,6 +123,11 @@ task::MeasuredCut MeasuredCutFromWire(const v1::MeasuredCut& wire, const std::st
     if (normal.norm() == 0.0) throw FieldError(field + ".plane_normal", "has zero length");
     cut.plane_normal = normal.normalized();
   }
+  if (wire.blade_normal_size() > 0) {
+    const Eigen::Vector3d normal = Vector3FromWire(wire.blade_normal(), field + ".blade_normal");
+    if (normal.norm() == 0.0) throw FieldError(field + ".blade_normal", "has zero length");
+    cut.blade_normal = normal.normalized();
+  }
   return cut;
 }
 
@@ -181,6 +186,8 @@ void TaskScoreToWire(const task::TaskScore& score, v1::TaskScore* wire) {
     out->set_position_error_fraction(required.position_error_fraction);
     out->set_angle_measured(required.angle_measured);
     out->set_angle_error_rad(required.angle_error_rad);
+    out->set_blade_angle_measured(required.blade_angle_measured);
+    out->set_blade_angle_error_rad(required.blade_angle_error_rad);
     out->set_position_ok(required.position_ok);
     out->set_angle_ok(required.angle_ok);
     out->set_correct(required.correct);

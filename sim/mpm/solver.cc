@@ -121,6 +121,14 @@ void Solver<Real>::RestoreCutProgress(const CutProgress& progress) {
       progress.current > progress.cuts_made) {
     throw std::invalid_argument("RestoreCutProgress: cuts_made <= 16 and current <= min(cuts_made, 15)");
   }
+  for (const BladeNormalMoment& moment : progress.blade_normals) {
+    if (!(moment.duration_s >= 0.0 && std::isfinite(moment.duration_s) && moment.normal_outer_s.allFinite() &&
+          moment.normal_outer_s.isApprox(moment.normal_outer_s.transpose()) &&
+          std::abs(moment.normal_outer_s.trace() - moment.duration_s) <= 1e-9 * (1.0 + moment.duration_s))) {
+      throw std::invalid_argument(
+          "RestoreCutProgress: a blade normal moment must be symmetric and finite, its trace its duration (s) >= 0");
+    }
+  }
   cut_progress_ = progress;
 }
 
@@ -318,6 +326,10 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   cut_progress_.blade_in_food = cut_counts.labelled > 0;
   if (cut_counts.recorded > 0) {
     cut_progress_.cuts_made = std::max(cut_progress_.cuts_made, cut_progress_.current + 1);
+    // The edge passed food this substep: the blade's pose counts towards this cut's orientation.
+    if (context.knife_on) {
+      cut_progress_.blade_normals[cut_progress_.current].Add(knife_->motion().pose.linear().col(1), dt_s);
+    }
   }
   const GridTotals& grid_totals = contact.totals;
   ParticleTotals particle_totals = SumChunks(workspace_->particle_chunks);

@@ -34,6 +34,14 @@ double AngleToBiasPlanes(const Eigen::Vector3d& axis, const Eigen::Vector3d& nor
   return std::hypot(twist_rad, tilt_miss_rad);
 }
 
+// Angle (rad) from a measured plane normal to the task's target orientation.
+double AngleErrorToTarget(CutStyle style, const Eigen::Vector3d& axis, const Eigen::Vector3d& normal,
+                          const SuccessTolerances& tolerances) {
+  return style == CutStyle::kBias
+             ? AngleToBiasPlanes(axis, normal, tolerances.bias_min_rad, tolerances.bias_max_rad)
+             : AngleToPerpendicularPlane(axis, normal);
+}
+
 std::string Percent(double fraction) {
   std::ostringstream text;
   text << std::fixed << std::setprecision(1) << 100.0 * fraction << "%";
@@ -150,14 +158,15 @@ TaskScore ScoreCuts(const ObjectBox& target, const CutSpec& spec,
         required.position_error_fraction <= tolerances.position_fraction + kToleranceSlack;
     required.angle_measured = cut.plane_normal.has_value();
     if (required.angle_measured) {
-      required.angle_error_rad =
-          spec.style == CutStyle::kBias
-              ? AngleToBiasPlanes(axis.direction, *cut.plane_normal, tolerances.bias_min_rad,
-                                  tolerances.bias_max_rad)
-              : AngleToPerpendicularPlane(axis.direction, *cut.plane_normal);
+      required.angle_error_rad = AngleErrorToTarget(spec.style, axis.direction, *cut.plane_normal, tolerances);
     }
-    required.angle_ok = !required.angle_measured ||
-                        required.angle_error_rad <= tolerances.angle_rad + kToleranceSlack;
+    required.blade_angle_measured = cut.blade_normal.has_value();
+    if (required.blade_angle_measured) {
+      required.blade_angle_error_rad = AngleErrorToTarget(spec.style, axis.direction, *cut.blade_normal, tolerances);
+    }
+    const double angle_limit_rad = tolerances.angle_rad + kToleranceSlack;
+    required.angle_ok = (!required.angle_measured || required.angle_error_rad <= angle_limit_rad) &&
+                        (!required.blade_angle_measured || required.blade_angle_error_rad <= angle_limit_rad);
     required.correct = required.position_ok && required.angle_ok;
   }
   score.extra_cuts = static_cast<int>(std::count(cut_used.begin(), cut_used.end(), false));
@@ -183,8 +192,12 @@ TaskScore ScoreCuts(const ObjectBox& target, const CutSpec& spec,
         summary << "cut at " << Percent(required.measured_fraction) << ", off by "
                 << Percent(required.position_error_fraction) << " of the length";
       } else {
-        summary << "plane off by " << std::fixed << std::setprecision(1)
-                << required.angle_error_rad * 180.0 / M_PI << " deg";
+        summary << std::fixed << std::setprecision(1);
+        if (required.angle_measured) summary << "cut surface off by " << required.angle_error_rad * 180.0 / M_PI << " deg";
+        if (required.angle_measured && required.blade_angle_measured) summary << ", ";
+        if (required.blade_angle_measured) {
+          summary << "blade off by " << required.blade_angle_error_rad * 180.0 / M_PI << " deg";
+        }
       }
     }
   } else if (score.extra_cuts > 0 && !tolerances.allow_extra_cuts) {

@@ -17,11 +17,13 @@
 namespace culinarycut::task {
 
 // A cut as measured after the episode: a plane through the object, or only a position (from
-// piece boundaries) when the plane's orientation is unknown.
+// piece boundaries) when the plane's orientation is unknown. Its orientation is measured twice:
+// from the cut surface the blade left, and from the knife's pose while its edge passed the food.
 struct MeasuredCut {
   std::string object_name;                     // ObjectBox::name of the object it went through
   Eigen::Vector3d plane_point_m = Eigen::Vector3d::Zero();  // a point on the cut plane (world)
-  std::optional<Eigen::Vector3d> plane_normal;  // the plane's normal (world), if measured
+  std::optional<Eigen::Vector3d> plane_normal;  // the cut surface's normal (world), if measured
+  std::optional<Eigen::Vector3d> blade_normal;  // the blade's mean face normal in the food (world)
 };
 
 struct SuccessTolerances {
@@ -48,9 +50,11 @@ struct RequiredCutScore {
   double measured_fraction = 0.0;      // of the matched cut (where its plane meets the long axis)
   double position_error_fraction = 0.0;  // |measured - target| / 1 (fractions of the length)
   bool angle_measured = false;
-  double angle_error_rad = 0.0;        // to the target plane (bias: to the accepted tilt range)
+  double angle_error_rad = 0.0;        // cut surface to the target plane (bias: to the accepted tilt range)
+  bool blade_angle_measured = false;
+  double blade_angle_error_rad = 0.0;  // the blade in the food to the target plane, likewise
   bool position_ok = false;
-  bool angle_ok = false;               // true when the angle was not measured
+  bool angle_ok = false;               // both measured angles within tolerance (an unmeasured one passes)
   bool correct = false;                // placed, position_ok and angle_ok
 };
 

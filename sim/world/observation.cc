@@ -39,7 +39,8 @@ Observation Observe(const Model& model, const State& state, render::CameraRender
   if (model.task) {
     observation.instruction = model.task->instruction;
     observation.task_score = EvaluateTask(*model.task, *model.food, MeasurePieces(*model.food, *state.food),
-                                            state.food->solver->particles());
+                                            state.food->solver->particles(),
+                                            state.food->solver->cut_progress());
   }
   if (renderer && !model.cameras.empty()) {
     StageTimes times;

@@ -12,8 +12,8 @@
 namespace culinarycut {
 namespace {
 
-// The layout's version, bumped whenever the archived fields change (05: the Maxwell branch's stress).
-constexpr std::array<char, 8> kMagic = {'C', 'C', 'S', 'N', 'A', 'P', '0', '5'};
+// The layout's version, bumped whenever the archived fields change (06: each cut's blade normals).
+constexpr std::array<char, 8> kMagic = {'C', 'C', 'S', 'N', 'A', 'P', '0', '6'};
 
 // Writes the fields in VisitState's order; optionally remembers where each field starts.
 class SnapshotWriter {

@@ -88,6 +88,24 @@ void VisitFood(Archive& archive, const Model& model, FoodState& food) {
   archive.Scalar("food.cuts.made", cuts.cuts_made);
   archive.Scalar("food.cuts.current", cuts.current);
   archive.Scalar("food.cuts.blade_in_food", cuts.blade_in_food);
+  // Each cut's blade normal moment: the six distinct entries of the symmetric sum, then its duration.
+  constexpr std::size_t kMomentValues = 7;
+  std::vector<double> moments(kMomentValues * mpm::kMaxRecordedCuts);
+  for (std::size_t cut = 0; cut < cuts.blade_normals.size(); ++cut) {
+    const mpm::BladeNormalMoment& moment = cuts.blade_normals[cut];
+    const Eigen::Matrix3d& m = moment.normal_outer_s;
+    const double values[kMomentValues] = {m(0, 0), m(1, 1), m(2, 2), m(0, 1), m(0, 2), m(1, 2), moment.duration_s};
+    std::copy(values, values + kMomentValues, moments.begin() + kMomentValues * cut);
+  }
+  archive.Array("food.cuts.blade_normals", moments, moments.size());
+  if constexpr (Archive::kReading) {
+    for (std::size_t cut = 0; cut < cuts.blade_normals.size(); ++cut) {
+      const double* v = moments.data() + kMomentValues * cut;
+      Eigen::Matrix3d& m = cuts.blade_normals[cut].normal_outer_s;
+      m << v[0], v[3], v[4], v[3], v[1], v[5], v[4], v[5], v[2];
+      cuts.blade_normals[cut].duration_s = v[6];
+    }
+  }
   if constexpr (Archive::kReading) {
     try {
       food.solver->RestoreCutProgress(cuts);

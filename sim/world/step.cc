@@ -97,7 +97,8 @@ void EndFoodStep(const Model& model, const KnifeWrench& wrench_sum, State* state
 // episode (terminated).
 void EvaluateStep(const Model& model, const State& state, StepResult* result) {
   result->task_score = EvaluateTask(*model.task, *model.food, MeasurePieces(*model.food, *state.food),
-                                    state.food->solver->particles());
+                                    state.food->solver->particles(),
+                                    state.food->solver->cut_progress());
   result->success = result->task_score->success;
   result->reward = result->success ? 1.0 : 0.0;
   result->terminated = result->success;

@@ -42,11 +42,19 @@ task::CutSpec SpecFromFields(const TaskConfig& config, const FoodModel& food) {
   return task::ResolveDefaults(partial);
 }
 
-// The plane of every cut recorded in each object with at least two pieces (objects without are
-// skipped: nothing there was parted), from where its particles were sampled (material coordinates,
-// like the pieces' bounds): for cut k, the particles the edge passed on either side of the blade.
-std::vector<std::vector<task::FittedPlane>> RecordedCutPlanes(const mpm::Particles<float>& particles,
-                                                              const std::vector<bool>& parted_object) {
+// A cut recorded in an object: the surface it left and the blade's orientation while it was made.
+struct RecordedCut {
+  task::FittedPlane surface;
+  std::optional<Eigen::Vector3d> blade_normal;
+};
+
+// Every cut recorded in each object with at least two pieces (objects without are skipped: nothing
+// there was parted): its surface plane, fitted to where the particles the edge passed on either side
+// of the blade were sampled (material coordinates, like the pieces' bounds), and the blade's mean
+// normal from the knife's pose while the edge passed food in that cut.
+std::vector<std::vector<RecordedCut>> RecordedCuts(const mpm::Particles<float>& particles,
+                                                   const mpm::CutProgress& progress,
+                                                   const std::vector<bool>& parted_object) {
   using Sides = std::array<std::vector<Eigen::Vector3d>, 2>;  // negative, positive
   std::vector<std::array<Sides, mpm::kMaxRecordedCuts>> sides_of(parted_object.size());
   for (std::size_t q = 0; q < particles.size(); ++q) {
@@ -60,32 +68,34 @@ std::vector<std::vector<task::FittedPlane>> RecordedCutPlanes(const mpm::Particl
       sides_of[object][cut][(record & mpm::PositiveSideBit(cut)) ? 1 : 0].push_back(rest_m);
     }
   }
-  std::vector<std::vector<task::FittedPlane>> planes(parted_object.size());
+  std::vector<std::vector<RecordedCut>> cuts(parted_object.size());
   for (std::size_t object = 0; object < parted_object.size(); ++object) {
-    for (const Sides& sides : sides_of[object]) {
+    for (int cut = 0; cut < mpm::kMaxRecordedCuts; ++cut) {
+      const Sides& sides = sides_of[object][cut];
       if (const std::optional<task::FittedPlane> plane = task::FitCutPlane(sides[1], sides[0])) {
-        planes[object].push_back(*plane);
+        cuts[object].push_back({*plane, progress.blade_normals[cut].MeanNormal()});
       }
     }
   }
-  return planes;
+  return cuts;
 }
 
-// Gives `cut` (a position between two pieces) the normal of the recorded plane that crosses the long
-// axis nearest to it, if one does within `reach` (a fraction of the length); else it stays
-// position-only.
-void AttachCutPlane(const task::LongAxis& axis, const std::vector<task::FittedPlane>& planes, double reach,
-                    task::MeasuredCut* cut) {
+// Gives `cut` (a position between two pieces) the orientations of the recorded cut whose surface
+// crosses the long axis nearest to it, if one does within `reach` (a fraction of the length); else
+// it stays position-only.
+void AttachRecordedCut(const task::LongAxis& axis, const std::vector<RecordedCut>& recorded, double reach,
+                       task::MeasuredCut* cut) {
   const std::optional<double> at = task::CutFractionAlongAxis(axis, *cut);
   double nearest = reach;
-  for (const task::FittedPlane& plane : planes) {
+  for (const RecordedCut& candidate_cut : recorded) {
     task::MeasuredCut candidate = *cut;
-    candidate.plane_point_m = plane.point_m;
-    candidate.plane_normal = plane.normal;
+    candidate.plane_point_m = candidate_cut.surface.point_m;
+    candidate.plane_normal = candidate_cut.surface.normal;
     const std::optional<double> crossing = task::CutFractionAlongAxis(axis, candidate);
     if (!at || !crossing || !(std::abs(*crossing - *at) <= nearest)) continue;
     nearest = std::abs(*crossing - *at);
-    cut->plane_normal = plane.normal;
+    cut->plane_normal = candidate_cut.surface.normal;
+    cut->blade_normal = candidate_cut.blade_normal;
   }
 }
 
@@ -130,7 +140,7 @@ TaskModel CompileTask(const TaskConfig& config, const FoodModel& food, std::uint
 }
 
 task::TaskScore EvaluateTask(const TaskModel& task, const FoodModel& food, const std::vector<mpm::Piece>& pieces,
-                             const mpm::Particles<float>& particles) {
+                             const mpm::Particles<float>& particles, const mpm::CutProgress& cut_progress) {
   std::vector<std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>> bounds_of_object(food.objects.size());
   for (const mpm::Piece& piece : pieces) {
     const double share = static_cast<double>(piece.particle_count) / std::max<std::size_t>(1, task.object_particles[piece.object]);
@@ -141,12 +151,12 @@ task::TaskScore EvaluateTask(const TaskModel& task, const FoodModel& food, const
   }
   std::vector<bool> parted_object(food.objects.size());
   for (std::size_t i = 0; i < food.objects.size(); ++i) parted_object[i] = bounds_of_object[i].size() >= 2;
-  const std::vector<std::vector<task::FittedPlane>> planes = RecordedCutPlanes(particles, parted_object);
+  const std::vector<std::vector<RecordedCut>> recorded = RecordedCuts(particles, cut_progress, parted_object);
   std::vector<task::MeasuredCut> cuts;
   for (std::size_t i = 0; i < food.objects.size(); ++i) {
     const task::LongAxis axis = task::LongAxisOf(food.objects[i]);
     for (task::MeasuredCut& cut : task::CutsFromPieceBounds(food.objects[i], bounds_of_object[i])) {
-      AttachCutPlane(axis, planes[i], task.tolerances.position_fraction, &cut);
+      AttachRecordedCut(axis, recorded[i], task.tolerances.position_fraction, &cut);
       cuts.push_back(std::move(cut));
     }
   }

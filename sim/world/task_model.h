@@ -1,14 +1,16 @@
 // The scene's cutting task (paper, "Task Definition"), compiled with the model, and its score
 // against the food's current pieces (paper, "Success Criteria"). Each object's pieces give cuts
 // midway between neighbouring pieces along its long axis; each takes the orientation of the cut
-// surface the blade left there (fitted to the material it labelled either side, sim/task/cut_plane_fit.h),
-// and both are scored against the required cuts on the target object.
+// surface the blade left there (fitted to the material it labelled either side, sim/task/cut_plane_fit.h)
+// and of the blade while its edge passed the food there; all are scored against the required cuts on
+// the target object.
 #pragma once
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "sim/mpm/cut_record.h"
 #include "sim/task/cut_spec.h"
 #include "sim/task/success_metrics.h"
 #include "sim/world/food_model.h"
@@ -33,8 +35,9 @@ struct TaskModel {
 // cannot be parsed, an invalid spec, or a target food that is not in the scene (or is ambiguous).
 TaskModel CompileTask(const TaskConfig& config, const FoodModel& food, std::uint64_t seed);
 
-// The task's score now, from the pieces of the last topology update and the particles' cut records.
+// The task's score now, from the pieces of the last topology update, the particles' cut records and
+// the blade's orientation in each cut.
 task::TaskScore EvaluateTask(const TaskModel& task, const FoodModel& food, const std::vector<mpm::Piece>& pieces,
-                             const mpm::Particles<float>& particles);
+                             const mpm::Particles<float>& particles, const mpm::CutProgress& cut_progress);
 
 }  // namespace culinarycut

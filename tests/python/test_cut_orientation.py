@@ -1,5 +1,6 @@
 """Success needs the cut's orientation as well as its position (paper, "Success Criteria"): through the real
-server, a vertical cut at the right place fails a bias task, and its measured plane says why."""
+server, a vertical cut at the right place fails a bias task, and its measured cut surface and the blade's
+pose in the food say why."""
 from __future__ import annotations
 
 import math
@@ -31,4 +32,7 @@ def test_a_vertical_cut_fails_a_bias_task(client):
     assert cut["angle_measured"] and not cut["angle_ok"], score  # ... but upright
     # A vertical plane misses the bias range (20-35 deg from vertical) by at least 20 deg, less the fit's few.
     assert math.degrees(cut["angle_error_rad"]) > 15.0, score
-    assert not info["success"] and "plane off by" in score["summary"], score
+    # The blade's pose in the food says the same, exactly: the oracle held it upright, 0.35 rad (20 deg) short.
+    assert cut["blade_angle_measured"], score
+    assert abs(math.degrees(cut["blade_angle_error_rad"]) - 20.05) < 0.5, score
+    assert not info["success"] and "blade off by" in score["summary"], score

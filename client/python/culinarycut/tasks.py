@@ -116,7 +116,8 @@ def _measured_cut(cut) -> task_pb2.MeasuredCut:
         return cut
     return task_pb2.MeasuredCut(object_name=cut.get("object_name", ""),
                                 plane_point_m=np.asarray(cut.get("plane_point_m", []), float).tolist(),
-                                plane_normal=np.asarray(cut.get("plane_normal", []), float).tolist())
+                                plane_normal=np.asarray(cut.get("plane_normal", []), float).tolist(),
+                                blade_normal=np.asarray(cut.get("blade_normal", []), float).tolist())
 
 
 class TaskClient:
@@ -159,7 +160,7 @@ class TaskClient:
         return plan_to_dict(self._call(self._stub.PlanCut, request).plan)
 
     def score_cuts(self, spec, target, cuts: Sequence, tolerances: Mapping | None = None) -> dict[str, Any]:
-        """Score measured cuts ({"object_name", "plane_point_m", "plane_normal"?}) on target."""
+        """Score measured cuts ({"object_name", "plane_point_m", "plane_normal"?, "blade_normal"?}) on target."""
         request = task_pb2.ScoreCutsRequest(spec=cut_spec_to_proto(spec), target=object_box_to_proto(target),
                                             cuts=[_measured_cut(c) for c in cuts])
         if tolerances:

@@ -1,4 +1,6 @@
 // The cut record: which side of each past cut a particle is on, and pieces that never re-link.
+#include <cmath>
+
 #include <catch2/catch.hpp>
 
 #include "sim/mpm/cut_record.h"
@@ -26,6 +28,25 @@ TEST_CASE("cut records: bits per cut, and who is on the same side of every cut",
   CHECK(ValidCutRecord(a));
   CHECK_FALSE(ValidCutRecord(0b10u));  // a side without having been passed
   CHECK(RecordCut(0u, kMaxRecordedCuts - 1, true) == 0xC0000000u);
+}
+
+TEST_CASE("a cut's blade normal is the time-weighted principal axis of the blade's normals", "[mpm]") {
+  BladeNormalMoment moment;
+  CHECK_FALSE(moment.MeanNormal().has_value());  // the edge never passed food
+  const Eigen::Vector3d y = Eigen::Vector3d::UnitY();
+  moment.Add(y, 0.3);
+  moment.Add(-y, 0.1);  // the same plane with its normal flipped counts the same
+  const Eigen::Vector3d tilted(0.0, std::cos(0.2), std::sin(0.2));
+  moment.Add(2.0 * tilted, 1e-6);  // normalised, and a short time weighs little
+  REQUIRE(moment.MeanNormal().has_value());
+  CHECK(std::abs(moment.MeanNormal()->dot(y)) == Approx(1.0).margin(1e-6));
+  CHECK(moment.duration_s == Approx(0.4 + 1e-6));
+  CHECK(moment.normal_outer_s.trace() == Approx(moment.duration_s));
+  // Two tilts held equally long: the mean lies halfway between them.
+  BladeNormalMoment rocking;
+  rocking.Add(Eigen::Vector3d(0.0, std::cos(0.1), std::sin(0.1)), 0.5);
+  rocking.Add(Eigen::Vector3d(0.0, std::cos(-0.1), std::sin(-0.1)), 0.5);
+  CHECK(std::abs(rocking.MeanNormal()->dot(y)) == Approx(1.0).margin(1e-12));
 }
 
 TEST_CASE("particles a cut put on opposite sides never link, however close", "[mpm][topology]") {

@@ -138,7 +138,34 @@ TEST_CASE("the blade plane angle is checked against the target plane", "[task][m
   CHECK(within.required[0].angle_error_rad == Approx(8.9 * M_PI / 180));
   const TaskScore beyond = ScoreCuts(box, spec, {CutAt(box, 0.5, tilted(9.1 * M_PI / 180))});
   CHECK_FALSE(beyond.success);
-  CHECK_THAT(beyond.summary, Catch::Contains("plane off by 9.1 deg"));
+  CHECK_THAT(beyond.summary, Catch::Contains("cut surface off by 9.1 deg"));
+}
+
+TEST_CASE("the blade's orientation in the food is scored beside the cut surface's", "[task][metrics]") {
+  const ObjectBox box = Cucumber();
+  const CutSpec spec = Ratio(0.5, DirectionalReference::kLeft);
+  MeasuredCut cut = CutAt(box, 0.5);  // a square cut surface
+  cut.blade_normal = Eigen::Vector3d(0.0, 1.0, 0.0);  // sign-free: the blade's face normal either way
+  const TaskScore square = ScoreCuts(box, spec, {cut});
+  CHECK(square.success);
+  CHECK(square.required[0].blade_angle_measured);
+  CHECK(square.required[0].blade_angle_error_rad == Approx(0.0).margin(1e-12));
+  // The blade twisted 15 deg about the vertical while the surface came out square: the cut fails.
+  cut.blade_normal = Eigen::Vector3d(std::sin(15 * M_PI / 180), -std::cos(15 * M_PI / 180), 0.0);
+  const TaskScore twisted = ScoreCuts(box, spec, {cut});
+  CHECK_FALSE(twisted.success);
+  CHECK(twisted.required[0].position_ok);
+  CHECK(twisted.required[0].blade_angle_error_rad == Approx(15 * M_PI / 180));
+  CHECK_THAT(twisted.summary, Catch::Contains("cut surface off by 0.0 deg, blade off by 15.0 deg"));
+  // A vertical blade on a bias task fails however the surface came out.
+  CutSpec bias = spec;
+  bias.style = CutStyle::kBias;
+  MeasuredCut vertical_blade = CutAt(box, 0.5, Eigen::Vector3d(0.0, -std::cos(0.44), std::sin(0.44)));
+  vertical_blade.blade_normal = Eigen::Vector3d(0.0, -1.0, 0.0);
+  const TaskScore vertical = ScoreCuts(box, bias, {vertical_blade});
+  CHECK(vertical.required[0].angle_error_rad == Approx(0.0).margin(1e-12));
+  CHECK(vertical.required[0].blade_angle_error_rad == Approx(0.35));
+  CHECK_FALSE(vertical.success);
 }
 
 TEST_CASE("a bias cut must be tilted about the blade edge", "[task][metrics]") {

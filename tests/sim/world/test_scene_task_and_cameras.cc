@@ -52,24 +52,25 @@ TEST_CASE("Bad tasks are refused with the field named") {
 
 TEST_CASE("The task score comes from the pieces: a cut at 0.3 succeeds, a crumb is no cut") {
   const mpm::Particles<float> kNoParticles;  // no cut records: position-only cuts
+  const mpm::CutProgress kNoCuts;
   const auto model = CompileModel(CucumberTaskScene(TaskConfig{"cut the cucumber at 0.3 ratio from the left"}),
                                   testing::Panda());
   const task::ObjectBox& cucumber = model->food->objects.at(0);
   const std::size_t total = model->task->object_particles.at(0);
   FoodState state;
   state.pieces = {PieceAlong(cucumber, 0.0, 0.31, total * 3 / 10), PieceAlong(cucumber, 0.33, 1.0, total * 7 / 10)};
-  task::TaskScore score = EvaluateTask(*model->task, *model->food, state.pieces, kNoParticles);
+  task::TaskScore score = EvaluateTask(*model->task, *model->food, state.pieces, kNoParticles, kNoCuts);
   CHECK(score.success);
   REQUIRE(score.required.size() == 1);
   CHECK(score.required[0].measured_fraction == Approx(0.32).margin(1e-6));
 
   state.pieces.push_back(PieceAlong(cucumber, 0.9, 0.92, total / 100));  // a 1 % crumb: left out
-  CHECK(EvaluateTask(*model->task, *model->food, state.pieces, kNoParticles).success);
+  CHECK(EvaluateTask(*model->task, *model->food, state.pieces, kNoParticles, kNoCuts).success);
   state.pieces.back().particle_count = total / 10;  // a 10 % slice: an extra cut fails the task
-  CHECK_FALSE(EvaluateTask(*model->task, *model->food, state.pieces, kNoParticles).success);
+  CHECK_FALSE(EvaluateTask(*model->task, *model->food, state.pieces, kNoParticles, kNoCuts).success);
 
   state.pieces = {PieceAlong(cucumber, 0.0, 1.0, total)};  // uncut
-  score = EvaluateTask(*model->task, *model->food, state.pieces, kNoParticles);
+  score = EvaluateTask(*model->task, *model->food, state.pieces, kNoParticles, kNoCuts);
   CHECK_FALSE(score.success);
   CHECK_FALSE(score.required[0].placed);
 }

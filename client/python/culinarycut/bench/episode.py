@@ -90,6 +90,8 @@ def _score_fields(score: dict | None) -> dict[str, Any]:
     cuts = [{"target_fraction": c["target_fraction"], "placed": c["placed"],
              "measured_fraction": c["measured_fraction"], "position_error_fraction": c["position_error_fraction"],
              "angle_error_deg": float(np.degrees(c["angle_error_rad"])) if c["angle_measured"] else None,
+             "blade_angle_error_deg": (float(np.degrees(c["blade_angle_error_rad"]))
+                                       if c.get("blade_angle_measured") else None),
              "correct": c["correct"]} for c in score.get("required", [])]
     return {"cuts_required": score.get("cuts_required", 0), "cuts_correct": score.get("cuts_correct", 0),
             "cuts_within_tolerance": score.get("cuts_within_position_tolerance", 0),
