@@ -235,6 +235,7 @@ def test_the_report_tables_match_the_database_and_the_page_is_self_contained(smo
     assert "## Split cuts: partial success" in markdown
     orientation = markdown.split("## Cut placement and orientation")[1].split("##")[0]
     assert "![Angle between the cut surface and the target plane](report_files/cut_orientation.png)" in orientation
+    assert "![Angle between the blade in the food and the target plane](report_files/blade_orientation.png)" in orientation
     assert orientation.count("| guillotine |") == 2  # a row per run
     for image in re.findall(r"\]\((report_files/[^)]+)\)", markdown):
         assert (tmp_path / image).stat().st_size > 1000

@@ -11,6 +11,7 @@ from __future__ import annotations
 import base64
 import html
 import json
+import statistics
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -180,11 +181,10 @@ def _failure_blocks(runs: list[Run]) -> list[Block]:
 
 
 def _cut_quality_blocks(runs: list[Run]) -> list[Block]:
-    """Per run and style: how far the cut surfaces were from the target plane and the cuts from their place,
-    and the style's signature in the knife's motion; then every run's angle-error distribution."""
+    """Per run and style: how far the cut surfaces and the blade were from the target plane and the cuts from
+    their place, and the style's signature in the knife's motion; then every run's angle-error distributions."""
     def median(values):
-        values = sorted(values)
-        return values[len(values) // 2] if values else None
+        return statistics.median(values) if values else None
 
     def number(value, digits=1):
         return "-" if value is None else f"{value:.{digits}f}"
@@ -194,27 +194,35 @@ def _cut_quality_blocks(runs: list[Run]) -> list[Block]:
         for style in sorted({r["style"] for r in run.rows}):
             chosen = [r for r in run.rows if r["style"] == style]
             angles = sorted(report_charts.angle_errors(chosen))
+            blade_angles = report_charts.angle_errors(chosen, report_charts.BLADE_ANGLE)
             positions = [c["position_error_fraction"] for r in chosen for c in json.loads(r.get("cuts") or "[]")
                          if c.get("placed")]
             p95 = angles[min(len(angles) - 1, int(0.95 * len(angles)))] if angles else None
             rows.append([run.short, style, str(len(angles)), number(median(angles)), number(p95),
-                         number(angles[-1] if angles else None), number(100 * max(positions) if positions else None),
+                         number(angles[-1] if angles else None), number(median(blade_angles)),
+                         number(max(blade_angles) if blade_angles else None),
+                         number(100 * max(positions) if positions else None),
                          number(median([r["saw_strokes"] for r in chosen if r.get("saw_strokes") is not None]), 0),
                          number(median([r["pivot_deg"] for r in chosen if r.get("pivot_deg") is not None]))])
-    header = ["run", "style", "cuts with a plane", "angle error median (deg)", "p95", "max",
-              "position error max (% of length)", "saw strokes (median)", "pivot (deg, median)"]
+    header = ["run", "style", "cuts with a plane", "surface angle error median (deg)", "p95", "max",
+              "blade angle error median (deg)", "max", "position error max (% of length)", "saw strokes (median)",
+              "pivot (deg, median)"]
     if len(runs) == 1:
         header, rows = header[1:], [row[1:] for row in rows]
     blocks = [Block("heading", "Cut placement and orientation"),
               Block("text", f"A cut is correct within 10 % of the length of its target and {ANGLE_TOLERANCE_DEG:g} deg "
-                            "of the target plane (the plane of the cut surface the blade left). Saw strokes and pivot "
-                            "are the style's signature in the knife's motion while in the food."),
+                            "of the target plane, both for the plane of the cut surface the blade left and for the "
+                            "blade's mean plane while its edge passed the food. Saw strokes and pivot are the style's "
+                            "signature in the knife's motion while in the food."),
               Block("table", header=header, rows=rows)]
-    if any(report_charts.angle_errors(run.rows) for run in runs):
-        blocks.append(Block("image", "Angle between the cut surface and the target plane",
-                            data=report_charts.angle_error_histogram([(run.short, run.rows) for run in runs],
-                                                                     ANGLE_TOLERANCE_DEG),
-                            name="cut_orientation.png"))
+    for key, title, name in ((report_charts.SURFACE_ANGLE, "Angle between the cut surface and the target plane",
+                              "cut_orientation.png"),
+                             (report_charts.BLADE_ANGLE, "Angle between the blade in the food and the target plane",
+                              "blade_orientation.png")):
+        if any(report_charts.angle_errors(run.rows, key) for run in runs):
+            blocks.append(Block("image", title, name=name,
+                                data=report_charts.angle_error_histogram([(run.short, run.rows) for run in runs],
+                                                                         ANGLE_TOLERANCE_DEG, key)))
     return blocks
 
 

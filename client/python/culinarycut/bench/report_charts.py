@@ -52,25 +52,30 @@ def success_per_food(runs: list[tuple[str, list[dict]]]) -> bytes:
     return _png(figure)
 
 
-def angle_errors(rows: list[dict]) -> list[float]:
-    """The measured angle errors (deg) of every required cut of the rows (cuts without a plane left out)."""
+SURFACE_ANGLE = "angle_error_deg"        # the cut surface's plane against the target plane
+BLADE_ANGLE = "blade_angle_error_deg"    # the blade's plane in the food against the target plane
+ANGLE_LABELS = {SURFACE_ANGLE: "angle between the cut surface and the target plane (deg)",
+                BLADE_ANGLE: "angle between the blade in the food and the target plane (deg)"}
+
+
+def angle_errors(rows: list[dict], key: str = SURFACE_ANGLE) -> list[float]:
+    """One measured angle error (deg) of every required cut of the rows (cuts where it was not measured left out)."""
     import json
-    return [cut["angle_error_deg"] for row in rows for cut in json.loads(row.get("cuts") or "[]")
-            if cut.get("angle_error_deg") is not None]
+    return [cut[key] for row in rows for cut in json.loads(row.get("cuts") or "[]") if cut.get(key) is not None]
 
 
-def angle_error_histogram(runs: list[tuple[str, list[dict]]], tolerance_deg: float) -> bytes:
-    """Each run's distribution of cut-plane angle errors, with the success rule's tolerance marked."""
+def angle_error_histogram(runs: list[tuple[str, list[dict]]], tolerance_deg: float, key: str = SURFACE_ANGLE) -> bytes:
+    """Each run's distribution of one of the cuts' angle errors, with the success rule's tolerance marked."""
     figure, axes = plt.subplots(figsize=(6.0, 3.2))
-    largest = max([tolerance_deg * 2] + [e for _, rows in runs for e in angle_errors(rows)])
+    largest = max([tolerance_deg * 2] + [e for _, rows in runs for e in angle_errors(rows, key)])
     bins = [largest * k / 30 for k in range(31)]
     for i, (label, rows) in enumerate(runs):
-        axes.hist(angle_errors(rows), bins=bins, histtype="step", linewidth=1.5, label=label,
+        axes.hist(angle_errors(rows, key), bins=bins, histtype="step", linewidth=1.5, label=label,
                   color=COLOURS[i % len(COLOURS)])
     axes.axvline(tolerance_deg, color="black", linestyle="--", linewidth=1)
     axes.text(tolerance_deg, axes.get_ylim()[1] * 0.5, f"tolerance {tolerance_deg:g} deg ", fontsize=8, rotation=90,
               ha="right", va="center")
-    axes.set_xlabel("angle between the cut surface and the target plane (deg)")
+    axes.set_xlabel(ANGLE_LABELS[key])
     axes.set_ylabel("cuts")
     axes.set_title("Cut orientation")
     axes.legend(fontsize=8)
