@@ -1,8 +1,17 @@
 # CulinaryCut on Debian 12 (bookworm), in three stages:
 #   build   compilers, -dev packages and the sources; builds the server and the Python client
 #   server  the server binary, its assets and only the shared libraries it loads (no compilers); non-root
-#   client  the Python packages (culinarycut, the policy adapters) and their virtualenv; non-root
+#   client  the Python packages (culinarycut with every extra its commands import: data's h5py, safety
+#           fit's scipy; the policy adapters) and their virtualenv; non-root
 FROM debian:bookworm AS build
+# The commit the image is built from, which GetServerInfo reports as the build id (the benchmark runner
+# refuses to mix builds, and every image reporting "unknown" would defeat that). .git stays out of the
+# build context, so the build is told: --build-arg CULINARYCUT_BUILD_ID=$(git rev-parse --short=12 HEAD)
+# (cmake/CulinaryCutBuildId.cmake reads the variable).
+ARG CULINARYCUT_BUILD_ID
+RUN test -n "$CULINARYCUT_BUILD_ID" || { echo "the build id is missing: docker build --build-arg" \
+      "CULINARYCUT_BUILD_ID=\$(git rev-parse --short=12 HEAD) ... (docker compose: set CULINARYCUT_BUILD_ID)" >&2; \
+      exit 1; }
 WORKDIR /opt/culinarycut
 # install_deps.sh needs the pins and the Python package (it installs it into .venv), so the sources come first.
 COPY . .
@@ -25,20 +34,22 @@ RUN apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq 
     && useradd --system --no-create-home --shell /usr/sbin/nologin culinarycut
 COPY --from=build /opt/culinarycut/build/server/culinarycut-server /opt/culinarycut/bin/culinarycut-server
 COPY --from=build /opt/culinarycut/assets /opt/culinarycut/assets
+COPY --from=build /opt/culinarycut/scripts/container_entrypoint.sh /opt/culinarycut/bin/container-entrypoint
 USER culinarycut
 WORKDIR /opt/culinarycut
-EXPOSE 50051 5556
-# Inside the container the server must listen on the container's interfaces for the port to be
-# published, hence --insecure: docker-compose.yml publishes it on the host's loopback only. To serve
-# other machines, mount a certificate and a token file and start it with --tls-cert, --tls-key and
-# --token-file instead (docs/protocol.md, "Access control").
-CMD ["/opt/culinarycut/bin/culinarycut-server", "--listen", "0.0.0.0:50051", "--telemetry", "tcp://0.0.0.0:5556", \
-     "--insecure"]
+EXPOSE 50051
+# TLS with bearer tokens by default, on the container's interfaces so that a published port reaches it:
+# mount the certificate, its key and the token file at /run/secrets/ (scripts/make_server_secrets.sh makes
+# them; docker-compose.yml mounts them). Without them the entrypoint refuses to start and says what to mount.
+# Telemetry (unencrypted) is off. Flags given to `docker run IMAGE ...` replace these (docs/deployment.md).
+ENTRYPOINT ["/bin/sh", "/opt/culinarycut/bin/container-entrypoint", "/opt/culinarycut/bin/culinarycut-server"]
+CMD ["--listen", "0.0.0.0:50051", "--tls-cert", "/run/secrets/server.pem", "--tls-key", "/run/secrets/server.key", \
+     "--token-file", "/run/secrets/tokens.txt"]
 
 FROM debian:bookworm-slim AS client
 RUN apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
       python3 python3-grpcio python3-protobuf python3-numpy python3-zmq python3-opencv python3-jsonschema \
-      python3-matplotlib python3-pil \
+      python3-matplotlib python3-pil python3-h5py python3-scipy \
     && rm -rf /var/lib/apt/lists/* \
     && useradd --create-home --shell /bin/bash culinarycut
 COPY --from=build /opt/culinarycut/.venv /opt/culinarycut/.venv

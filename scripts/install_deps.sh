@@ -27,8 +27,9 @@ PACKAGES=(
   python3-scipy
 )
 # Only the test suite needs these (scripts/test.sh passes --tests): the HTML benchmark report is
-# checked in a real headless browser, and the fuzz targets build with clang, libFuzzer and sanitizers.
-TEST_PACKAGES=(chromium chromium-driver python3-selenium clang libclang-rt-14-dev libomp-14-dev)
+# checked in a real headless browser, the fuzz targets build with clang, libFuzzer and sanitizers, and
+# docker-compose.yml is read (YAML) to check it against the Compose schema.
+TEST_PACKAGES=(chromium chromium-driver python3-selenium clang libclang-rt-14-dev libomp-14-dev python3-yaml)
 if [ "${1:-}" = "--tests" ]; then PACKAGES+=("${TEST_PACKAGES[@]}"); fi
 
 SUDO=""

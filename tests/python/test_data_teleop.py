@@ -4,9 +4,6 @@ holds the path and the rating given in the page, and a second page watches the s
 from __future__ import annotations
 
 import json
-import socket
-import subprocess
-import sys
 import time
 
 import numpy as np
@@ -14,27 +11,14 @@ import pytest
 from culinarycut import Client
 from culinarycut.datasets.demo import load_demonstration
 
-
-def _free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return probe.getsockname()[1]
+from teleop_support import start_teleop
 
 
 @pytest.fixture
 def teleop(address, tmp_path):
-    port = _free_port()
-    process = subprocess.Popen([sys.executable, "-m", "culinarycut", "data", "teleop", "--server", address,
-                                "--out", str(tmp_path / "demos"), "--port", str(port), "--image-size", "64"],
-                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    line = process.stdout.readline()
-    if "teleoperation of session" not in line:
-        process.kill()
-        pytest.fail(f"teleop did not start: {line}{process.stdout.read()}")
-    session = line.split("session ")[1].split(":")[0]
-    yield {"url": f"http://127.0.0.1:{port}", "session": session, "demos": tmp_path / "demos"}
-    process.terminate()
-    process.wait(timeout=20)
+    app = start_teleop(address, tmp_path / "demos")
+    yield {"url": app.url, "page": app.page, "session": app.session, "demos": app.demos}
+    app.stop()
 
 
 @pytest.fixture
@@ -66,7 +50,7 @@ def test_keys_in_the_page_move_the_knife_and_record_a_demonstration(teleop, brow
     from selenium.webdriver.common.action_chains import ActionChains
     client = Client(address, timeout_s=60)
     start = _tcp(client, teleop["session"])
-    browser.get(teleop["url"] + "/")
+    browser.get(teleop["page"])  # the printed URL: its token becomes the cookie
     _wait(lambda: browser.execute_script(
         "const i = document.getElementById('camera-front'); return i && i.complete && i.naturalWidth;"),
         30, "the front camera image")
@@ -137,7 +121,7 @@ def test_gamepad_reset_and_a_recording_too_short_to_save(teleop, browser, addres
     from selenium.webdriver.common.action_chains import ActionChains
     client = Client(address, timeout_s=60)
     start = np.asarray(client.observe(teleop["session"]).observation.tcp_pose)
-    browser.get(teleop["url"] + "/")
+    browser.get(teleop["page"])  # the printed URL: its token becomes the cookie
     _wait(lambda: browser.find_element("id", "force").text not in ("", "-"), 30, "the force readout")
     browser.execute_script(GAMEPAD_STUB)
 

@@ -9,6 +9,7 @@ from pathlib import Path
 EXIT_USAGE = 2
 EXIT_FAILED = 1
 EXIT_INTERRUPTED = 130
+MAX_TELEOP_BODY = 64 * 1024  # the largest teleoperation request body (an action is ~100 bytes)
 
 
 def _states(text: str) -> list[dict]:
@@ -127,11 +128,16 @@ def cmd_card(args) -> int:
 
 def cmd_teleop(args) -> int:
     """Serves the teleoperation page until Ctrl-C; demonstrations go to --out."""
+    import tornado.httpserver
     import tornado.ioloop
+    import tornado.netutil
     from culinarycut.client import Client
     from culinarycut.datasets.jobs import DatasetConfig, job_scene
+    from culinarycut.datasets.teleop.access import WILDCARD_BINDS, AccessPolicy, is_loopback, new_token, url_host
     from culinarycut.datasets.teleop.app import make_app
     from culinarycut.datasets.teleop.session import TeleopSession
+    sockets = tornado.netutil.bind_sockets(args.port, address=args.host)  # first: --port 0 picks the port
+    port = sockets[0].getsockname()[1]
     client = Client(args.server, timeout_s=600.0)
     spec = client.tasks.parse_instruction(args.instruction)["spec"]
     config = DatasetConfig(name="teleop", seed=args.seed, tasks=(spec,), episodes_per_task=1, quality=args.quality,
@@ -140,10 +146,17 @@ def cmd_teleop(args) -> int:
                  "scene": args.scene}
     scene = {**job_scene(config, variation, args.seed), "task": {"instruction": args.instruction}}
     session = TeleopSession(client, scene, spec, args.seed, Path(args.out), operator=args.operator)
-    app = make_app(client, session)
-    app.listen(args.port, address=args.host)
-    print(f"teleoperation of session {session.session_id}: http://{args.host}:{args.port}/ "
-          f"(watch any session at /watch/SESSION_ID); demonstrations go to {args.out}", flush=True)
+    access = AccessPolicy(args.host, port, new_token(), tuple(args.allow_host or ()))
+    server = tornado.httpserver.HTTPServer(make_app(client, session, access), max_body_size=MAX_TELEOP_BODY)
+    server.add_sockets(sockets)
+    shown = "127.0.0.1" if args.host in WILDCARD_BINDS else url_host(args.host)
+    print(f"teleoperation of session {session.session_id}: http://{shown}:{port}/?token={access.token} "
+          f"(read-only view: /watch/{session.session_id}); demonstrations go to {args.out}", flush=True)
+    if not is_loopback(args.host):
+        print(f"warning: --host {args.host} serves the page to other machines over plain HTTP: the token in its "
+              "URL crosses the network unencrypted, and whoever holds it drives the robot (prefer the default "
+              f"127.0.0.1 and an SSH tunnel: ssh -L {port}:127.0.0.1:{port} THIS_MACHINE)", file=sys.stderr,
+              flush=True)
     try:
         tornado.ioloop.IOLoop.current().start()
     finally:
@@ -221,8 +234,11 @@ def register(sub) -> None:
     tel.add_argument("--quality", default="draft", help="MPM preset")
     tel.add_argument("--scene", choices=("table", "kitchen"), default="table", help="where the food stands")
     tel.add_argument("--image-size", type=int, default=224, help="square camera images, pixels")
-    tel.add_argument("--host", default="127.0.0.1", help="address the page is served on")
-    tel.add_argument("--port", type=int, default=8008, help="port the page is served on")
+    tel.add_argument("--host", default="127.0.0.1",
+                     help="address the page is served on (default loopback: only this machine reaches it)")
+    tel.add_argument("--port", type=int, default=8008, help="port the page is served on (0 picks a free one)")
+    tel.add_argument("--allow-host", action="append", metavar="NAME",
+                     help="another name browsers reach the page by (e.g. this machine's DNS name); repeatable")
     tel.add_argument("--operator", default="", help="who demonstrates (stored in the file)")
     tel.set_defaults(data_func=cmd_teleop)
 
