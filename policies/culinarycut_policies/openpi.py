@@ -101,7 +101,7 @@ class OpenPIPolicy(RemotePolicy):
         `reset_pose` (openpi's ALOHA configs' policy_metadata, where aloha_real resets both arms) is the
         rest of the arm we do not have."""
         served = metadata.get("layout")
-        if served is not None and served != self.layout:
+        if served in LAYOUTS and served != self.layout:
             raise PolicyServerError(f"policy openpi: the server at {self.url} serves openpi's {served} layout, "
                                     f"not {self.layout}: set option layout={served}")
         if self.layout == "aloha" and metadata.get("reset_pose") is not None:
