@@ -6,7 +6,9 @@ The knife has no gripper (ManiSkill's `panda_stick` modes have no gripper dimens
   state OpenVLA-OFT sends fills its gripper slots, beyond the 6 pose values, with 0.
 - RDT-1B: the right-gripper slot (10) of the unified vector is left out of the state mask, so the
   model is told it is absent, and its predicted value is ignored.
-- openpi: `observation/state` carries no gripper; any action dimensions beyond the 6 pose deltas are dropped.
+- openpi's LIBERO layout: `observation/state` carries no gripper; any action dimensions beyond the 6 pose
+  deltas are dropped. Its DROID and ALOHA layouts: openpi_layouts.py (the gripper reads closed on the
+  knife, its action is ignored).
 """
 from __future__ import annotations
 

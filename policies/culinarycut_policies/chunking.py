@@ -1,6 +1,7 @@
 """How a predicted action chunk becomes one action per control step: open loop (execute the first k,
-then query again: OpenVLA-OFT, Octo's receding horizon, RDT, openpi's ActionChunkBroker) or Octo's
-temporal ensemble (query every step, average the predictions that cover this step)."""
+then query again: OpenVLA-OFT, Octo's receding horizon, RDT, openpi's ActionChunkBroker), the same in
+simulated time for a model whose rate need not divide the control rate (openpi's DROID and ALOHA
+layouts), or Octo's temporal ensemble (query every step, average the predictions that cover this step)."""
 from __future__ import annotations
 
 from collections import deque
@@ -76,3 +77,70 @@ class TemporalEnsemble:
             raise RuntimeError("TemporalEnsemble.next before a chunk was added")
         action, self._pending = self._pending, None
         return action
+
+
+class TimedChunks:
+    """A chunk of a model trained at `model_rate_hz` executed in simulated time at the simulator's control
+    rate, whatever their ratio: element i of a chunk lasts from i to i + 1 model steps after the query,
+    each control step covers model rate / control rate of them (DROID's 15 Hz at 20 Hz: 0.75), and a new
+    chunk is asked for at the first control step that starts at or past the end of `execute_steps`
+    elements (openpi's examples: open_loop_horizon, action_horizon). The last step of a chunk may reach
+    into element `execute_steps`, what the model predicted for that time; past the chunk's end its last
+    element holds."""
+
+    def __init__(self, execute_steps: int, model_rate_hz: float):
+        if execute_steps < 1:
+            raise ValueError(f"execute_steps must be at least 1, got {execute_steps}")
+        if not model_rate_hz > 0:
+            raise ValueError(f"the model's rate must be positive, got {model_rate_hz}")
+        self.execute_steps = int(execute_steps)
+        self.model_rate_hz = float(model_rate_hz)
+        self.per_step = 1.0  # elements per control step
+        self._chunk: np.ndarray | None = None
+        self._steps = 0
+
+    def reset(self, control_rate_hz: float | None) -> None:
+        """The simulator's control rate (None: one element per control step)."""
+        self.per_step = self.model_rate_hz / float(control_rate_hz) if control_rate_hz else 1.0
+        self._chunk = None
+        self._steps = 0
+
+    @property
+    def needs_chunk(self) -> bool:
+        return self._chunk is None or self._steps * self.per_step >= self.execute_steps - 1e-9
+
+    def add(self, chunk: np.ndarray) -> None:
+        chunk = np.asarray(chunk, dtype=np.float64)
+        if chunk.ndim != 2 or len(chunk) < self.execute_steps:
+            raise ValueError(f"expected an action chunk of at least {self.execute_steps} steps (H x D), "
+                             f"got shape {chunk.shape}")
+        self._chunk = chunk
+        self._steps = 0
+
+    def integrate(self) -> np.ndarray:
+        """The elements this control step covers, each weighted by the fraction of its model step covered
+        (one whole element when the rates are equal); advances one control step. For rate-like actions
+        (DROID's joint velocities, each worth one model step)."""
+        chunk = self._current()
+        start, end = self._steps * self.per_step, (self._steps + 1) * self.per_step
+        self._steps += 1
+        total = np.zeros(chunk.shape[1])
+        for i in range(int(np.floor(start)), int(np.ceil(end - 1e-9))):
+            total += (min(end, i + 1) - max(start, i)) * chunk[min(i, len(chunk) - 1)]
+        return total
+
+    def sample(self) -> np.ndarray:
+        """The chunk at the end of this control step, element i being the target at the end of model step
+        i, linear between elements (the element itself when the rates are equal); advances one control
+        step. For targets (ALOHA's absolute joint positions)."""
+        chunk = self._current()
+        self._steps += 1
+        x = min(max(self._steps * self.per_step - 1.0, 0.0), len(chunk) - 1.0)
+        low = int(np.floor(x + 1e-9))
+        high = min(low + 1, len(chunk) - 1)
+        return chunk[low] + max(x - low, 0.0) * (chunk[high] - chunk[low])
+
+    def _current(self) -> np.ndarray:
+        if self._chunk is None:
+            raise RuntimeError("TimedChunks: a step before the first chunk was added")
+        return self._chunk

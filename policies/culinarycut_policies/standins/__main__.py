@@ -30,13 +30,15 @@ def main(argv=None) -> int:
     parser.add_argument("--statistics", help="dataset_statistics.json (openvla, openvla-oft)")
     parser.add_argument("--unnorm-key", help="the dataset key (openvla-oft; openvla takes it per request)")
     parser.add_argument("--mode", choices=("hash", "zero"), default="hash")
+    parser.add_argument("--layout", choices=("libero", "droid", "aloha"),
+                        help="openpi: the observation layout it serves (default libero)")
     parser.add_argument("--api-key", help="require Authorization: Api-Key KEY (websocket models)")
     parser.add_argument("--log-queries", action="store_true", help="print `query N` as each query arrives")
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.WARNING)
     try:
         server, _ = make_standin(args.model, args.statistics, args.unnorm_key, host=args.host, port=args.port,
-                                 mode=args.mode, api_key=args.api_key)
+                                 mode=args.mode, api_key=args.api_key, layout=args.layout)
     except ValueError as err:
         parser.error(str(err))
     if args.log_queries:

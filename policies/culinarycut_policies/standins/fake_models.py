@@ -5,6 +5,7 @@ exactly what an adapter must execute. Each keeps the last request it saw for the
 from __future__ import annotations
 
 import hashlib
+import time
 
 import numpy as np
 
@@ -156,20 +157,102 @@ class FakeRDT:
         return {"actions": np.repeat(state * mask[:, None, :], 64, axis=1)}
 
 
+# What an openpi server of each layout reads (src/openpi/policies/*_policy.py, its make_*_example) and
+# answers: (horizon, action dim) of a checkpoint of that layout (pi0_fast_libero, pi0_fast_droid: 10;
+# pi0_aloha: pi0's 50) and the example that builds the request. The prompt is required, as by a server
+# whose config has no default_prompt.
+OPENPI_LAYOUTS = {
+    "libero": {"example": "examples/libero/main.py", "actions": (10, 7),
+               "keys": ("observation/image", "observation/wrist_image", "observation/state", "prompt")},
+    "droid": {"example": "examples/droid/main.py", "actions": (10, 8),
+              "keys": ("observation/exterior_image_1_left", "observation/wrist_image_left",
+                       "observation/joint_position", "observation/gripper_position", "prompt")},
+    "aloha": {"example": "examples/aloha_real/env.py", "actions": (50, 14), "keys": ("state", "images", "prompt")},
+}
+ALOHA_CAMERAS = ("cam_high", "cam_low", "cam_left_wrist", "cam_right_wrist")  # AlohaInputs.EXPECTED_CAMERAS
+ALOHA_RESET_POSE = [0, -1.5, 1.5, 0, 0, 0]  # the policy_metadata of openpi's pi0_aloha configs
+
+
+def _vector(value, key: str, size: int) -> np.ndarray:
+    if not isinstance(value, np.ndarray) or value.shape != (size,) or not np.issubdtype(value.dtype, np.floating):
+        raise ValueError(f"{key}: expected a float vector ({size},), got {getattr(value, 'shape', type(value))} "
+                         f"{getattr(value, 'dtype', '')}")
+    return value
+
+
 class FakeOpenPI:
-    """An openpi policy answering `actions` (10, 7): a slow drift along x whose size follows the state."""
+    """An openpi server of one `layout` (a real one's config decides it): checks the request as that
+    layout's input transform and model would read it, and answers `actions` of the layout's shape.
+    A request in another layout is refused naming both (a real server fails with a KeyError).
+    libero: (10, 7) delta actions, a slow drift along x whose size follows the state.
+    droid: (10, 8), joint 1 turning at velocity 0.05 (0.15 rad/s in DROID's units), the gripper column the
+    gripper position it was sent.
+    aloha: (50, 14), the state it was sent (the arms hold still) but for the left waist, which element k
+    moves 0.002 (k + 1) rad from where it is."""
 
-    metadata = {"model_family": "openpi-fake", "action_horizon": 10}
-
-    def __init__(self, mode: str = "hash"):
+    def __init__(self, mode: str = "hash", layout: str = "libero"):
+        if layout not in OPENPI_LAYOUTS:
+            raise ValueError(f"unknown openpi layout {layout!r}; choose one of {', '.join(OPENPI_LAYOUTS)}")
         self.mode = mode
+        self.layout = layout
+        horizon = OPENPI_LAYOUTS[layout]["actions"][0]
+        self.metadata = {"model_family": "openpi-fake", "layout": layout, "action_horizon": horizon}
+        if layout == "aloha":
+            self.metadata["reset_pose"] = list(ALOHA_RESET_POSE)
         self.last_request: dict | None = None
 
     def __call__(self, request: dict) -> dict:
         self.last_request = request
+        started = time.monotonic()
+        self._check_layout(request)
+        actions = getattr(self, f"_{self.layout}")(request)
+        return {"actions": actions, "policy_timing": {"infer_ms": (time.monotonic() - started) * 1000.0}}
+
+    def _check_layout(self, request: dict) -> None:
+        spec = OPENPI_LAYOUTS[self.layout]
+        missing = [k for k in spec["keys"] if k not in request]
+        if not missing:
+            if not isinstance(request["prompt"], str):
+                raise ValueError(f"prompt: expected the instruction text, got {type(request['prompt']).__name__}")
+            return
+        sent = [name for name, other in OPENPI_LAYOUTS.items()
+                if name != self.layout and all(k in request for k in other["keys"] if k != "prompt")]
+        raise ValueError(f"this openpi server reads the {self.layout} layout ({spec['example']}: "
+                         f"{', '.join(spec['keys'])}); the request lacks {', '.join(missing)}"
+                         + (f" and is in the {sent[0]} layout: its client must send layout {self.layout}" if sent
+                            else f" (it has {', '.join(sorted(request)) or 'no keys'})"))
+
+    def _libero(self, request: dict) -> np.ndarray:
         _image(request["observation/image"], "observation/image", (224, 224, 3))
-        state = np.asarray(request["observation/state"], dtype=np.float64)
+        _image(request["observation/wrist_image"], "observation/wrist_image", (224, 224, 3))
+        state = _vector(request["observation/state"], "observation/state", 8)
         actions = np.zeros((10, 7))
         if self.mode != "zero":
             actions[:, 0] = 0.001 * np.tanh(state[0])
-        return {"actions": actions}
+        return actions
+
+    def _droid(self, request: dict) -> np.ndarray:
+        _image(request["observation/exterior_image_1_left"], "observation/exterior_image_1_left", (224, 224, 3))
+        _image(request["observation/wrist_image_left"], "observation/wrist_image_left", (224, 224, 3))
+        _vector(request["observation/joint_position"], "observation/joint_position", 7)
+        gripper = _vector(np.atleast_1d(request["observation/gripper_position"]), "observation/gripper_position", 1)
+        actions = np.zeros((10, 8))
+        if self.mode != "zero":
+            actions[:, 0] = 0.05
+            actions[:, 7] = gripper[0]
+        return actions
+
+    def _aloha(self, request: dict) -> np.ndarray:
+        state = _vector(request["state"], "state", 14)
+        images = request["images"]
+        if not isinstance(images, dict) or "cam_high" not in images or set(images) - set(ALOHA_CAMERAS):
+            raise ValueError(f"images: expected a dict with cam_high of {', '.join(ALOHA_CAMERAS)}, got "
+                             f"{sorted(images) if isinstance(images, dict) else type(images).__name__}")
+        for name, image in images.items():
+            if not isinstance(image, np.ndarray) or image.shape != (3, 224, 224) or image.dtype != np.uint8:
+                raise ValueError(f"images/{name}: expected uint8 3x224x224 (channels first), got "
+                                 f"{getattr(image, 'shape', type(image))} {getattr(image, 'dtype', '')}")
+        actions = np.repeat(state[None], 50, axis=0)
+        if self.mode != "zero":
+            actions[:, 0] += 0.002 * np.arange(1, 51)
+        return actions

@@ -13,9 +13,13 @@ MODELS = ("openvla", "openvla-oft", "octo", "rdt", "openpi")
 
 
 def make_standin(model: str, statistics: str | None = None, unnorm_key: str | None = None, *,
-                 host: str = "127.0.0.1", port: int = 0, mode: str = "hash", api_key: str | None = None):
+                 host: str = "127.0.0.1", port: int = 0, mode: str = "hash", api_key: str | None = None,
+                 layout: str | None = None):
     """(server, fake model). OpenVLA's models un-normalise on the server, so they need the statistics;
-    the others answer in the model's own (normalised or unified) space."""
+    the others answer in the model's own (normalised or unified) space. `layout`: the openpi layout
+    the openpi stand-in serves (libero by default)."""
+    if layout is not None and model != "openpi":
+        raise ValueError(f"a layout is the openpi stand-in's; the {model} stand-in has none")
     if model.startswith("openvla") and not statistics:
         raise ValueError(f"the {model} stand-in un-normalises on the server, as {model} does: give it the "
                          "statistics (--statistics FILE; standins/example_statistics.py writes an example)")
@@ -29,5 +33,5 @@ def make_standin(model: str, statistics: str | None = None, unnorm_key: str | No
     fakes = {"octo": FakeOcto, "rdt": FakeRDT, "openpi": FakeOpenPI}
     if model not in fakes:
         raise ValueError(f"unknown stand-in model {model!r}; choose one of {', '.join(MODELS)}")
-    fake = fakes[model](mode=mode)
+    fake = FakeOpenPI(mode=mode, layout=layout or "libero") if model == "openpi" else fakes[model](mode=mode)
     return WebsocketPolicyServer(fake, fake.metadata, host, port, api_key=api_key), fake
