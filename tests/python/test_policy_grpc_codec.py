@@ -188,6 +188,31 @@ class Recording(PolicyServicer):
         return super().ResetPolicy(request, context)
 
 
+class Refusing(PolicyServicer):
+    """A server in another language: it cannot read the observation it was sent."""
+
+    def Act(self, request, context):
+        context.abort(grpc.StatusCode.INVALID_ARGUMENT, "observation: no sensor_data/wrist/rgb (camera wrist)")
+
+
+def started(servicer) -> tuple[grpc.Server, int]:
+    server = grpc.server(futures.ThreadPoolExecutor(2))
+    policy_pb2_grpc.add_PolicyServicer_to_server(servicer, server)
+    port = server.add_insecure_port("127.0.0.1:0")
+    server.start()
+    return server, port
+
+
+def test_an_act_error_keeps_its_status_and_text():
+    server, port = started(Refusing(lambda observation, instruction: np.zeros(6)))
+    try:
+        with pytest.raises(PolicyServerError, match=r"^policy server 127.0.0.1:\d+: Act: INVALID_ARGUMENT: "
+                                                    r"observation: no sensor_data/wrist/rgb \(camera wrist\)$"):
+            play(GrpcPolicy(url=f"127.0.0.1:{port}"), 1)
+    finally:
+        server.stop(0)
+
+
 @pytest.mark.parametrize("needs_session", [False, True])
 def test_the_session_and_its_token_go_only_to_a_policy_that_asks(needs_session):
     class Planner(Policy):
@@ -199,10 +224,7 @@ def test_the_session_and_its_token_go_only_to_a_policy_that_asks(needs_session):
     planner = Planner()
     planner.needs_session = needs_session
     servicer = Recording(planner)
-    server = grpc.server(futures.ThreadPoolExecutor(2))
-    policy_pb2_grpc.add_PolicyServicer_to_server(servicer, server)
-    port = server.add_insecure_port("127.0.0.1:0")
-    server.start()
+    server, port = started(servicer)
     try:
         simulator = SimpleNamespace(address="sim.example:50051", token="secret", tls=True)
         boxes = [{"name": "cucumber_0", "food": "cucumber", "position": [0.5, 0, 0.04], "quaternion": [1, 0, 0, 0],

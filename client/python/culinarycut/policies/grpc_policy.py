@@ -294,7 +294,8 @@ class GrpcPolicy(Policy):
         if actions.ndim == 1 and actions.shape == (dim,):
             actions = actions[None]
         elif not (actions.ndim == 2 and actions.shape[1] == dim and 1 <= actions.shape[0] <= chunk):
-            expected = f"[{dim}] or [n, {dim}] with 1 <= n <= chunk_size {chunk}" if chunk > 1 else f"[{dim}] or [1, {dim}]"
+            expected = f"[{dim}] or [n, {dim}] with 1 <= n <= chunk_size {chunk}" if chunk > 1 else \
+                f"[{dim}] or [1, {dim}]"
             raise PolicyServerError(f"{self.where}: Act answered actions of shape {list(actions.shape)}; expected "
                                     f"{expected} ({mode} takes {dim} values)")
         bad = ~np.isfinite(actions)
