@@ -1,9 +1,11 @@
 """The policy protocol without a simulator: the tensor codec (every dtype, scalars, empty shapes, bad byte
 counts), and GrpcPolicy against culinarycut.policy_server on loopback (chunks, the rate, finished, what
-is refused, and the session's token only for a policy that asks for it)."""
+is refused, the session's token only for a policy that asks for it, TLS with a CA and a token)."""
 from __future__ import annotations
 
+import subprocess
 from concurrent import futures
+from pathlib import Path
 from types import SimpleNamespace
 
 import grpc
@@ -249,3 +251,30 @@ def test_a_server_that_does_not_listen_is_unreachable():
     policy = GrpcPolicy(url="127.0.0.1:9", retries=1, backoff_s=0.01)
     with pytest.raises(PolicyServerUnreachable, match="127.0.0.1:9 does not answer after 2 attempts"):
         policy.preflight()
+
+
+class Authenticating(PolicyServicer):
+    """Remembers the authorization metadata of the metadata call."""
+
+    def GetPolicyMetadata(self, request, context):
+        self.authorization = dict(context.invocation_metadata()).get("authorization")
+        return super().GetPolicyMetadata(request, context)
+
+
+def test_tls_with_the_runner_s_ca_and_a_token(tmp_path):
+    pki = tmp_path / "pki"
+    subprocess.run(["bash", str(Path(__file__).resolve().parents[1] / "support" / "make_test_pki.sh"), str(pki)],
+                   check=True, timeout=120)
+    servicer = Authenticating(lambda observation, instruction: np.full(6, 0.5))
+    server = grpc.server(futures.ThreadPoolExecutor(2))
+    policy_pb2_grpc.add_PolicyServicer_to_server(servicer, server)
+    credentials = grpc.ssl_server_credentials([((pki / "server.key").read_bytes(), (pki / "server.pem").read_bytes())])
+    port = server.add_secure_port("127.0.0.1:0", credentials)
+    server.start()
+    try:
+        policy = GrpcPolicy(url=f"grpcs://127.0.0.1:{port}", tls_ca=str(pki / "ca.pem"), token="t" * 24)
+        assert play(policy, 1)[0][1].tolist() == [0.5] * 6 and servicer.authorization == "Bearer " + "t" * 24
+        with pytest.raises(PolicyServerUnreachable):  # plaintext to a TLS server
+            GrpcPolicy(url=f"127.0.0.1:{port}", retries=0, connect_timeout_s=2).preflight()
+    finally:
+        server.stop(0)
