@@ -1,6 +1,7 @@
 """Command line: `info` prints what a server offers; `demo` runs a scripted knife motion; `parse`,
 `instructions` and `oracle` use the cutting tasks (see cli_tasks.py); `bench` runs benchmark suites (cli_bench.py); `data` makes datasets (cli_data.py);
-`safety` makes and fits the safety module's force model (cli_safety.py)."""
+`safety` makes and fits the safety module's force model (cli_safety.py); `policy serve` serves a policy over the
+policy protocol (cli_policy.py)."""
 from __future__ import annotations
 
 import argparse
@@ -9,7 +10,7 @@ import sys
 import numpy as np
 from google.protobuf import json_format
 
-from culinarycut import cli_bench, cli_data, cli_safety, cli_tasks
+from culinarycut import cli_bench, cli_data, cli_policy, cli_safety, cli_tasks
 from culinarycut.client import Client
 from culinarycut.errors import CulinaryCutError, Unavailable
 from culinarycut.extras import missing_extra_message
@@ -127,7 +128,7 @@ def build_parser() -> argparse.ArgumentParser:
     common.add_argument("--address", default="127.0.0.1:50051", help="server host:port (default %(default)s)")
     common.add_argument("--timeout", type=float, default=30.0, help="per-RPC timeout in s (default %(default)s)")
     sub = parser.add_subparsers(dest="command", required=True,
-                                metavar="{info,demo,parse,instructions,oracle,bench,data,safety}")
+                                metavar="{info,demo,parse,instructions,oracle,bench,data,safety,policy}")
     info = sub.add_parser("info", parents=[common], help="print the server's version, capabilities and limits")
     info.add_argument("--json", action="store_true", help="print the ServerInfo message as JSON")
     info.set_defaults(func=cmd_info)
@@ -137,6 +138,7 @@ def build_parser() -> argparse.ArgumentParser:
     cli_bench.register(sub)
     cli_data.register(sub)
     cli_safety.register(sub)
+    cli_policy.register(sub)
     return parser
 
 

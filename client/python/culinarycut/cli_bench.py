@@ -131,13 +131,14 @@ def register(sub) -> None:
 
     run = commands.add_parser("run", help="run a suite's missing episodes against one or more servers")
     run.add_argument("suite", help="suite name (see `culinarycut bench list`) or .toml path")
-    run.add_argument("--policy", help="policy name (oracle, random, noop, an installed plugin's or module:Class); "
-                                      "default: the suite's")
+    run.add_argument("--policy", help="policy name (oracle, random, noop, grpc, an installed plugin's or "
+                                      "module:Class); default: the suite's")
     run.add_argument("--policy-option", action="append", default=[], metavar="KEY=VALUE",
                      help="an option for the policy's constructor (repeatable)")
     run.add_argument("--policy-url", metavar="URL",
                      help="where a remote policy's model server listens (the option url), e.g. "
-                          "http://HOST:8000 for openvla, ws://HOST:8000 for octo, rdt, openpi (docs/policies.md)")
+                          "http://HOST:8000 for openvla, ws://HOST:8000 for octo, rdt, openpi (docs/policies.md), "
+                          "HOST:PORT for grpc (docs/policy_protocol.md)")
     run.add_argument("--server", action="append", metavar="HOST:PORT",
                      help="a culinarycut-server (repeatable; default 127.0.0.1:50051)")
     run.add_argument("--workers", type=int, default=2, help="episodes at once (default %(default)s)")

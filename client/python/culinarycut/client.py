@@ -179,10 +179,11 @@ def _read_pem(path: str | None, what: str) -> bytes | None:
 
 
 def _channel(address: str, tls_ca: str | None, tls_cert: str | None, tls_key: str | None,
-             token: str | None) -> tuple[grpc.Channel, tuple]:
-    """The channel, and the metadata every call sends on it (the bearer token, over TLS only)."""
+             token: str | None, tls: bool = False) -> tuple[grpc.Channel, tuple]:
+    """The channel, and the metadata every call sends on it (the bearer token, over TLS only). TLS when
+    `tls` or any of the CA, the client certificate or the token is given."""
     options = [("grpc.max_receive_message_length", MAX_MESSAGE_BYTES)]
-    if not (tls_ca or tls_cert or token):
+    if not (tls or tls_ca or tls_cert or token):
         return grpc.insecure_channel(address, options=options), ()
     if bool(tls_cert) != bool(tls_key):
         raise ValueError("a client certificate needs both tls_cert and tls_key")
@@ -201,18 +202,23 @@ class Client:
     Plaintext by default (a server on loopback). For a server started with --tls-cert and --token-file:
     `tls_ca` (PEM file of the CA that signed its certificate; None: the system's roots) and `token`;
     `tls_cert` and `tls_key` for a server that asks for client certificates. Unset, they come from
-    CULINARYCUT_TLS_CA, CULINARYCUT_TOKEN, CULINARYCUT_TLS_CERT and CULINARYCUT_TLS_KEY.
+    CULINARYCUT_TLS_CA, CULINARYCUT_TOKEN, CULINARYCUT_TLS_CERT and CULINARYCUT_TLS_KEY. `tls=True`
+    asks for TLS without any of them (the system's roots). `tls` and `token` say afterwards what the
+    client connects with (a policy that plans on the server is given them: docs/policy_protocol.md).
     """
 
     def __init__(self, address: str = "127.0.0.1:50051", timeout_s: float = 30.0, *, tls_ca: str | None = None,
-                 token: str | None = None, tls_cert: str | None = None, tls_key: str | None = None):
+                 token: str | None = None, tls_cert: str | None = None, tls_key: str | None = None,
+                 tls: bool = False):
         self.address = address
         self.timeout_s = timeout_s
         environ = os.environ
-        self._channel, self._metadata = _channel(address, tls_ca or environ.get("CULINARYCUT_TLS_CA"),
-                                 tls_cert or environ.get("CULINARYCUT_TLS_CERT"),
-                                 tls_key or environ.get("CULINARYCUT_TLS_KEY"),
-                                 token or environ.get("CULINARYCUT_TOKEN"))
+        tls_ca = tls_ca or environ.get("CULINARYCUT_TLS_CA")
+        tls_cert = tls_cert or environ.get("CULINARYCUT_TLS_CERT")
+        self.token = token or environ.get("CULINARYCUT_TOKEN") or ""
+        self.tls = bool(tls or tls_ca or tls_cert or self.token)
+        self._channel, self._metadata = _channel(address, tls_ca, tls_cert,
+                                 tls_key or environ.get("CULINARYCUT_TLS_KEY"), self.token, tls)
         self._stub = simulator_pb2_grpc.SimulatorStub(self._channel)
         self.tasks = TaskClient(self._channel, timeout_s, self._metadata)  # the Tasks service on the same channel
 

@@ -56,6 +56,12 @@ def object_box_to_proto(box) -> task_pb2.ObjectBox:
                               extent_m=np.asarray(box.get("extent_m", []), dtype=float).ravel().tolist())
 
 
+def object_box_to_dict(box: task_pb2.ObjectBox) -> dict[str, Any]:
+    """The inverse of object_box_to_proto: {"name", "food", "position", "quaternion", "extent_m"}."""
+    return {"name": box.name, "food": box.food, "position": list(box.pose.position),
+            "quaternion": list(box.pose.quaternion) or [1.0, 0.0, 0.0, 0.0], "extent_m": list(box.extent_m)}
+
+
 def pose_to_proto(pose) -> scene_pb2.Pose:
     """[x, y, z, qw, qx, qy, qz] to a Pose proto."""
     pose = np.asarray(pose, dtype=float).ravel()

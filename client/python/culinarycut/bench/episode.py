@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 from google.protobuf import json_format
 
-from culinarycut.bench.episode_scene import EpisodeSpec
+from culinarycut.bench.episode_scene import EpisodeSpec, object_boxes
 from culinarycut.bench.style_signature import along_blade_m, blade_pitch_deg, signature
 from culinarycut.bench.suite import ALL_GUARDS
 from culinarycut.client import Client
@@ -108,7 +108,7 @@ def run_episode(spec: EpisodeSpec, server: str, options: EpisodeOptions) -> Epis
                server=server, outcome="error", end_reason="", error="", steps=0, sim_time_s=0.0,
                peak_force_n=0.0, peak_speed_m_s=0.0, stalled_steps=0, pieces=0, instruction="", resolved_scene="",
                env_wall_s=0.0, policy_wall_s=0.0, stage_wall_s="{}", server_version="", build_id="",
-               policy_version="", **_score_fields(None))
+               policy_name="", policy_version="", **_score_fields(None))
     trace: dict[str, list] = {"time_s": [], "force_n": [], "speed_m_s": [], "tcp_z_m": [], "tcp_along_cut_m": [],
                               "tcp_along_blade_m": [], "blade_pitch_deg": [], "knife_contact": [], "safety_acted": []}
     frames: list = []
@@ -117,10 +117,12 @@ def run_episode(spec: EpisodeSpec, server: str, options: EpisodeOptions) -> Epis
             info = client.server_info()
             row.update(server_version=info.version, build_id=info.build_id)
             policy = make_policy(options.policy, options.policy_options)
-            row["policy_version"] = str(getattr(policy, "version", "0"))
             try:
                 _play(client, spec, policy, options, row, trace, frames)
             finally:
+                # After the episode: a remote policy (grpc) says its own name and version when it connects.
+                row.update(policy_name=str(getattr(policy, "name", "")),
+                           policy_version=str(getattr(policy, "version", "0")))
                 _finish_policy(policy, row)
     except Unavailable as err:
         raise ServerLost(f"{server}: {err.details}") from None
@@ -146,7 +148,15 @@ def _finish_policy(policy: Policy, row: dict) -> None:
 def _play(client: Client, spec: EpisodeSpec, policy: Policy, options: EpisodeOptions, row: dict, trace: dict,
           frames: list) -> None:
     scene = dict(spec.scene)
-    cameras = list(scene.get("cameras", [])) + [dict(c) for c in getattr(policy, "cameras", ())]
+    try:  # a remote policy (grpc) asks its server for these
+        policy_cameras = [dict(c) for c in getattr(policy, "cameras", ())]
+        control_mode = policy.control_mode
+    except Unavailable:
+        raise
+    except Exception as err:
+        row.update(outcome="error", end_reason="policy_error", error=f"metadata: {type(err).__name__}: {err}"[:2000])
+        return
+    cameras = list(scene.get("cameras", [])) + policy_cameras
     if options.record_video and not any(c["name"] == RECORD_CAMERA["name"] for c in cameras):
         cameras.append(dict(RECORD_CAMERA))
     scene["cameras"] = cameras
@@ -155,7 +165,7 @@ def _play(client: Client, spec: EpisodeSpec, policy: Policy, options: EpisodeOpt
     row["instruction"] = instruction
     env_wall = policy_wall = 0.0
     clock = time.perf_counter()
-    with CulinaryCutEnv(client=client, scene=scene, control_mode=policy.control_mode) as env, \
+    with CulinaryCutEnv(client=client, scene=scene, control_mode=control_mode) as env, \
             concurrent.futures.ThreadPoolExecutor(1, thread_name_prefix="policy") as pool:
         row["resolved_scene"] = json_format.MessageToJson(env.handshake.resolved_scene, indent=None,
                                                           preserving_proto_field_name=True)
@@ -163,6 +173,9 @@ def _play(client: Client, spec: EpisodeSpec, policy: Policy, options: EpisodeOpt
         env_wall += time.perf_counter() - clock
         info["session"] = EpisodeSession(client, env.session_id)
         info["objects"] = scene["objects"]
+        info["object_boxes"] = object_boxes(json_format.MessageToDict(env.handshake.resolved_scene,
+                                                                      preserving_proto_field_name=True),
+                                            info.get("food"))
         info["control_frequency_hz"] = 1.0 / env.control_timestep if env.control_timestep > 0 else None
         try:
             clock = time.perf_counter()

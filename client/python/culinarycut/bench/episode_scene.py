@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from culinarycut.bench.suite import Suite, Task, episode_seed
+from culinarycut.datasets.object_frame import half_extents_in_object_frame
 
 FOODS = ("banana", "cucumber", "apple", "peach", "melon", "orange", "strawberry")
 BOARD_CENTER_XY_M = (0.50, 0.0)  # the cutting board's centre on the table (sim/core/scene_layout.h)
@@ -89,3 +90,26 @@ def episode_spec(suite: Suite, task: Task, trial: int) -> EpisodeSpec:
 def suite_episodes(suite: Suite) -> list[EpisodeSpec]:
     """Every episode of the suite, task by task, trial by trial."""
     return [episode_spec(suite, task, trial) for task in suite.tasks for trial in range(task.trials)]
+
+
+def object_boxes(resolved_scene: dict, food: dict | None) -> list[dict]:
+    """Each food object's box at rest, as Tasks' ObjectBox takes it (culinarycut.tasks.object_box_to_proto):
+    named "<food>_<index>" as the server names it, centred on the world bounding box of its particles in the
+    reset observation (`food`: info["food"]), the resolved scene's orientation, and its full side lengths
+    along its own axes solved from that bounding box (m). An object without pieces keeps its resolved pose
+    and no extent."""
+    pieces = (food or {}).get("pieces", [])
+    boxes = []
+    for index, obj in enumerate(resolved_scene.get("objects", [])):
+        pose = obj.get("pose", {})
+        quaternion = [float(v) for v in pose.get("quaternion", [])] or [1.0, 0.0, 0.0, 0.0]
+        box = {"name": f"{obj.get('food', '')}_{index}", "food": obj.get("food", ""),
+               "position": [float(v) for v in pose.get("position", [])], "quaternion": quaternion}
+        own = [p for p in pieces if int(p["object"]) == index]
+        if own:
+            low = np.min([p["bounds_min"] for p in own], axis=0)
+            high = np.max([p["bounds_max"] for p in own], axis=0)
+            box["position"] = (0.5 * (low + high)).tolist()
+            box["extent_m"] = (2.0 * half_extents_in_object_frame(quaternion, low, high)).tolist()
+        boxes.append(box)
+    return boxes

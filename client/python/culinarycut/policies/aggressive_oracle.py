@@ -39,6 +39,7 @@ class AggressiveOraclePolicy(Policy):
     name = "oracle-aggressive"
     version = "1"
     control_mode = "pd_ee_pose_quat"
+    needs_session = True  # it plans on the server, in the episode's session
 
     def __init__(self, cut_speed_m_s: float = 3.6, hold_s: float = 1.0, settle_s: float = 0.5):
         super().__init__()

@@ -13,8 +13,10 @@ A policy is a small class; the runner makes one per episode from its registered 
 
 `observation` is CulinaryCutEnv's (ManiSkill's layout); `info` at reset holds the seed, the episode's
 `session` (client and session id, for policies that plan on the server such as the oracle), the
-scene's objects and `control_frequency_hz`. A policy that is done early sets `finished`; the episode
-then ends. Optional: `close()` (called when the episode ends), `latency_summary()` (a dict stored
+scene's `objects` (as the scene gives them), `object_boxes` (each food's box at rest: name, food, position,
+quaternion, extent_m; world frame, m) and `control_frequency_hz`. A policy that is done early sets
+`finished`; the episode then ends. A policy that plans on the server sets `needs_session`: served over the
+policy protocol (culinarycut.policy_server), only such a policy is given the session and its token. Optional: `close()` (called when the episode ends), `latency_summary()` (a dict stored
 with the episode as `policy_latency`) and `preflight()` (called once on a fresh instance before a run's
 first episode; raising stops the run, e.g. a model server that does not answer), as the model adapters in
 policies/ have.
@@ -25,6 +27,10 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+
+# Values per action of each control mode (docs/robot.md: ManiSkill's panda_stick modes, no gripper).
+ACTION_DIMS = {"pd_joint_pos": 7, "pd_joint_delta_pos": 7, "pd_ee_delta_pos": 3, "pd_ee_delta_pose": 6,
+               "pd_ee_pose": 6, "pd_ee_pose_quat": 7}
 
 
 @dataclass(frozen=True)
@@ -40,6 +46,7 @@ class Policy:
     version = "0"
     control_mode = "pd_ee_delta_pose"
     cameras: tuple = ()
+    needs_session = False   # it calls the server itself with info["session"]
 
     def __init__(self, **options):
         if options:

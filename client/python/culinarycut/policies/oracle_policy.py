@@ -12,6 +12,7 @@ class OraclePolicy(Policy):
     name = "oracle"
     version = "1"
     control_mode = "pd_ee_pose_quat"
+    needs_session = True  # it plans on the server, in the episode's session
 
     def __init__(self, control_mode: str = "pd_ee_pose_quat"):
         super().__init__()

@@ -8,9 +8,10 @@ from importlib.metadata import entry_points
 from culinarycut.policies.aggressive_oracle import AggressiveOraclePolicy
 from culinarycut.policies.base import Policy
 from culinarycut.policies.floor_policies import NoOpPolicy, RandomPolicy
+from culinarycut.policies.grpc_policy import GrpcPolicy
 from culinarycut.policies.oracle_policy import OraclePolicy
 
-BUILT_IN = {cls.name: cls for cls in (OraclePolicy, AggressiveOraclePolicy, RandomPolicy, NoOpPolicy)}
+BUILT_IN = {cls.name: cls for cls in (OraclePolicy, AggressiveOraclePolicy, RandomPolicy, NoOpPolicy, GrpcPolicy)}
 
 
 class UnknownPolicy(ValueError):
