@@ -103,6 +103,12 @@ std::unique_ptr<Session> Client::CreateSession(const v1::SceneSpec& scene) {
   return std::make_unique<Session>(connection_, std::move(response));
 }
 
+std::unique_ptr<Session> Client::AttachSession(const std::string& session_id) {
+  v1::CreateSessionResponse handshake;
+  handshake.set_session_id(session_id);
+  return std::make_unique<Session>(connection_, std::move(handshake), /*owned=*/false);
+}
+
 v1::ParseInstructionResponse Client::ParseInstruction(const std::string& instruction) {
   v1::ParseInstructionRequest request;
   request.set_instruction(instruction);
@@ -137,10 +143,11 @@ v1::TaskScore Client::ScoreCuts(const v1::ScoreCutsRequest& request) {
   return response.score();
 }
 
-Session::Session(std::shared_ptr<Connection> connection, v1::CreateSessionResponse handshake)
-    : connection_(std::move(connection)), handshake_(std::move(handshake)) {}
+Session::Session(std::shared_ptr<Connection> connection, v1::CreateSessionResponse handshake, bool owned)
+    : connection_(std::move(connection)), handshake_(std::move(handshake)), owned_(owned) {}
 
 Session::~Session() {
+  if (!owned_) return;
   try {
     Close();
   } catch (...) {

@@ -79,6 +79,9 @@ class Client {
   bool WaitForServer(std::chrono::milliseconds timeout);
   v1::ServerInfo GetServerInfo();
   std::unique_ptr<Session> CreateSession(const v1::SceneSpec& scene = {});
+  // A session created by someone else (a policy server is lent the runner's): its calls work as on
+  // your own, but it stays open when the object goes away, and handshake() holds only its id.
+  std::unique_ptr<Session> AttachSession(const std::string& session_id);
 
   // Stateless task calls (the Tasks service): instruction -> spec, planning, scoring.
   v1::ParseInstructionResponse ParseInstruction(const std::string& instruction);
@@ -97,8 +100,9 @@ class Client {
 
 class Session {
  public:
-  Session(std::shared_ptr<Connection> connection, v1::CreateSessionResponse handshake);
-  ~Session();  // closes the session on the server; never throws
+  // `owned`: the session is closed on the server when this object goes away.
+  Session(std::shared_ptr<Connection> connection, v1::CreateSessionResponse handshake, bool owned = true);
+  ~Session();  // closes an owned session on the server; never throws
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
 
@@ -123,6 +127,7 @@ class Session {
  private:
   std::shared_ptr<Connection> connection_;
   v1::CreateSessionResponse handshake_;
+  bool owned_ = true;
   bool closed_ = false;
 };
 
