@@ -97,6 +97,7 @@ void StepResultToWire(const StepResult& result, double render_wall_time_ms, v1::
   info->set_mpm_wall_time_ms(result.timings[Stage::kMpm]);
   info->set_topology_wall_time_ms(result.timings[Stage::kTopology]);
   info->set_safety_wall_time_ms(result.timings[Stage::kSafety]);
+  info->set_rollback_wall_time_ms(result.timings[Stage::kRollback]);
   if (result.safety) SafetyStepToWire(*result.safety, info->mutable_safety());
   info->set_render_wall_time_ms(render_wall_time_ms);
 }

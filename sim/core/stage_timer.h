@@ -9,13 +9,14 @@
 namespace culinarycut {
 
 // Robot control (action -> joint targets), the robot's physics substeps, the food's MPM substeps,
-// piece detection, the task score, camera rendering, the safety limiter (only with it on).
-enum class Stage { kControl = 0, kPhysics, kMpm, kTopology, kTask, kRender, kSafety, kCount };
+// piece detection, the task score, camera rendering, the safety limiter (only with it on), saving
+// what a cancelled step puts back.
+enum class Stage { kControl = 0, kPhysics, kMpm, kTopology, kTask, kRender, kSafety, kRollback, kCount };
 inline constexpr int kStageCount = static_cast<int>(Stage::kCount);
 
 // The names the wire and the docs use for each Stage, in enum order.
-inline constexpr std::array<const char*, kStageCount> kStageNames = {"control", "physics", "mpm", "topology",
-                                                                    "task", "render", "safety"};
+inline constexpr std::array<const char*, kStageCount> kStageNames = {"control", "physics", "mpm",    "topology",
+                                                                    "task",    "render",  "safety", "rollback"};
 
 // Wall time (ms) of each stage within one call.
 struct StageTimes {

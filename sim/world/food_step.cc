@@ -39,12 +39,14 @@ double TotalMass(const mpm::Particles<float>& particles) {
 
 FoodStepReport AdvanceFood(const FoodModel& model, const Eigen::Isometry3d& tcp_start,
                            const Eigen::Isometry3d& tcp_end, double duration_s, FoodState* state,
-                           const std::function<bool()>& cancelled) {
+                           const std::function<bool()>& cancelled,
+                           const std::function<void()>& before_body_changes) {
   FoodStepReport report;
   state->wrench = KnifeWrench{};
   state->knife_speed_factor = 1.0;
   const bool near = KnifeNearFood(model, tcp_end, state) || KnifeNearFood(model, tcp_start, state);
   if (!near && !state->awake) return report;
+  if (before_body_changes) before_body_changes();
   state->awake = true;
 
   mpm::Solver<float>& solver = *state->solver;

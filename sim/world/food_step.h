@@ -22,8 +22,10 @@ struct FoodStepReport {
 // Advances the food by `duration_s` (one physics step). The wrench and the speed resistance are
 // left in `state` for the robot's next physics step. `cancelled`, when given, is asked between
 // MPM substeps; if it says stop, the food is left half-stepped and the report says so.
+// `before_body_changes`, when given, is called before the food's body (particles, cuts) first changes.
 FoodStepReport AdvanceFood(const FoodModel& model, const Eigen::Isometry3d& tcp_start,
                            const Eigen::Isometry3d& tcp_end, double duration_s, FoodState* state,
-                           const std::function<bool()>& cancelled = {});
+                           const std::function<bool()>& cancelled = {},
+                           const std::function<void()>& before_body_changes = {});
 
 }  // namespace culinarycut

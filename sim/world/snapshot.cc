@@ -212,6 +212,37 @@ void RestoreSnapshot(const Model& model, const std::string& bytes, State* state)
 
 void CopyState(const Model& model, const State& from, State* to) { RestoreSnapshot(model, SaveSnapshot(model, from), to); }
 
+std::string SaveStateButFoodBody(const Model& model, const State& state) {
+  SnapshotWriter writer;
+  VisitState(writer, model, const_cast<State&>(state), StateParts::kAllButFoodBody);
+  return writer.bytes().Take();
+}
+
+std::string SaveFoodBody(const Model& model, const FoodState& food) {
+  SnapshotWriter writer;
+  state_fields_detail::VisitFoodBody(writer, model, const_cast<FoodState&>(food));
+  return writer.bytes().Take();
+}
+
+void RestoreSavedParts(const Model& model, const std::string& state_but_food_body, const std::string* food_body,
+                       State* state) {
+  State restored;
+  restored.physics = std::make_unique<PhysicsWorld>(model.robot, model.layout, model.physics_timestep_s);
+  if (food_body) {
+    restored.food = std::make_unique<FoodState>();
+    ResetFood(*model.food, model.layout, restored.food.get());
+    ByteReader body_bytes(*food_body);
+    SnapshotReader body(&body_bytes);
+    state_fields_detail::VisitFoodBody(body, model, *restored.food);
+  } else {
+    restored.food = std::move(state->food);  // untouched since it was saved: kept as it is
+  }
+  ByteReader rest_bytes(state_but_food_body);
+  SnapshotReader rest(&rest_bytes);
+  VisitState(rest, model, restored, StateParts::kAllButFoodBody);
+  *state = std::move(restored);
+}
+
 std::optional<std::string> FirstStateDifference(const Model& model, const State& a, const State& b) {
   std::vector<std::pair<std::size_t, std::string>> fields;
   const std::string bytes_a = Serialize(model, a, &fields);

@@ -76,9 +76,11 @@ void VisitPiece(Archive& archive, const std::string& name, mpm::Piece& piece) {
   VisitVector3(archive, name + ".centroid_m", piece.centroid_m);
 }
 
-// Precondition when reading: `food` was reset from the model (solver built, colliders placed).
+// The food's body: its particles, the solver's counters, the cuts and the pieces; a step changes
+// it only while the food is awake. Precondition when reading: `food` was reset from the model
+// (solver built, colliders placed).
 template <typename Archive>
-void VisitFood(Archive& archive, const Model& model, FoodState& food) {
+void VisitFoodBody(Archive& archive, const Model& model, FoodState& food) {
   const std::size_t count = model.food->initial_particles.size();
   VisitParticles(archive, food.solver->particles(), count);
   std::uint64_t solver_substeps = food.solver->substeps_taken();  // decides the next reordering
@@ -113,6 +115,22 @@ void VisitFood(Archive& archive, const Model& model, FoodState& food) {
       throw SnapshotError(std::string("food.cuts: ") + error.what());
     }
   }
+  std::uint64_t piece_count = food.pieces.size();
+  archive.Scalar("food.piece_count", piece_count);
+  if constexpr (Archive::kReading) {
+    if (piece_count > count) throw SnapshotError("food.piece_count: more pieces than particles");
+    food.pieces.assign(piece_count, mpm::Piece{});
+  }
+  for (std::size_t i = 0; i < food.pieces.size(); ++i) {
+    VisitPiece(archive, "food.pieces[" + std::to_string(i) + "]", food.pieces[i]);
+  }
+  if constexpr (Archive::kReading) food.particle_bounds = ParticleBounds(food.solver->particles());
+}
+
+
+// The food's few scalars (sleep, wrenches, contact), which a step may change while the food sleeps.
+template <typename Archive>
+void VisitFoodScalars(Archive& archive, FoodState& food) {
   archive.Scalar("food.awake", food.awake);
   archive.Scalar("food.quiet_time_s", food.quiet_time_s);
   archive.Scalar("food.substeps", food.substeps);
@@ -133,16 +151,6 @@ void VisitFood(Archive& archive, const Model& model, FoodState& food) {
     food.first_contact_frame = has_contact ? std::optional<std::uint64_t>(contact_frame) : std::nullopt;
     food.first_contact_time_s = has_contact ? std::optional<double>(contact_time_s) : std::nullopt;
   }
-  std::uint64_t piece_count = food.pieces.size();
-  archive.Scalar("food.piece_count", piece_count);
-  if constexpr (Archive::kReading) {
-    if (piece_count > count) throw SnapshotError("food.piece_count: more pieces than particles");
-    food.pieces.assign(piece_count, mpm::Piece{});
-  }
-  for (std::size_t i = 0; i < food.pieces.size(); ++i) {
-    VisitPiece(archive, "food.pieces[" + std::to_string(i) + "]", food.pieces[i]);
-  }
-  if constexpr (Archive::kReading) food.particle_bounds = ParticleBounds(food.solver->particles());
 }
 
 template <typename Archive>
@@ -161,8 +169,11 @@ void VisitSafety(Archive& archive, safety::EpisodeSafety& safety) {
 
 // Walks every field of a reset `state` (for reading: a state whose physics world and food were
 // just built from `model`, see snapshot.cc). Writing archives only read the fields.
+// A whole state, or all of it but the food's body (for Step's rollback, which saves the body apart).
+enum class StateParts { kAll, kAllButFoodBody };
+
 template <typename Archive>
-void VisitState(Archive& archive, const Model& model, State& state) {
+void VisitState(Archive& archive, const Model& model, State& state, StateParts parts = StateParts::kAll) {
   const auto dof = static_cast<std::size_t>(model.robot.dof());
   archive.Scalar("frame_id", state.frame_id);
   archive.Scalar("sim_time_s", state.sim_time_s);
@@ -175,7 +186,9 @@ void VisitState(Archive& archive, const Model& model, State& state) {
   archive.Vector("robot.qvel_rad_s", qdot, dof);
   if constexpr (Archive::kReading) state.physics->SetJointState(q, qdot);
   archive.Vector("robot.q_target_rad", state.q_target_rad, dof);
-  if (state.food) state_fields_detail::VisitFood(archive, model, *state.food);
+  if (!state.food) return;
+  if (parts == StateParts::kAll) state_fields_detail::VisitFoodBody(archive, model, *state.food);
+  state_fields_detail::VisitFoodScalars(archive, *state.food);
 }
 
 }  // namespace culinarycut

@@ -7,6 +7,7 @@
 #include "sim/world/passive_coupling.h"
 #include "sim/world/safety_stage.h"
 #include "sim/world/snapshot.h"
+#include "sim/world/step_rollback.h"
 
 namespace culinarycut {
 namespace {
@@ -117,13 +118,27 @@ void AdvanceClock(const Model& model, State* state, StepResult* result) {
 
 StepResult Step(const Model& model, State* state, const Action& action, const CancelCheck& cancelled) {
   const auto start = std::chrono::steady_clock::now();
-  // The state before the step, to put back if the step is cancelled half-way.
-  const std::string before = cancelled ? SaveSnapshot(model, *state) : std::string();
   StepResult result;
+  // The state before the step, to put back if the step is cancelled half-way (the food's body saved
+  // only once the step is about to change it).
+  std::optional<StepRollback> rollback;
+  if (cancelled) {
+    StageClock clock(&result.timings, Stage::kRollback);
+    rollback.emplace(model, *state);
+  }
+  // Runs inside the MPM stage's clock: its time moves from that stage to the rollback's.
+  const std::function<void()> save_food_body = [&] {
+    if (!rollback) return;
+    const auto saving = std::chrono::steady_clock::now();
+    rollback->BeforeFoodBodyChanges(*state->food);
+    const double saving_ms = MillisecondsSince(saving);
+    result.timings[Stage::kRollback] += saving_ms;
+    result.timings[Stage::kMpm] -= saving_ms;
+  };
   // Puts the state back as it was and marks the result, when the cancel check says stop.
   auto stop_here = [&] {
     if (!cancelled || !cancelled()) return false;
-    RestoreSnapshot(model, before, state);
+    rollback->Restore(state);
     result = StepResult{};
     result.cancelled = true;
     return true;
@@ -154,7 +169,7 @@ StepResult Step(const Model& model, State* state, const Action& action, const Ca
     BookCouplingWork(felt_force_n, tcp_start.linear(), tcp_end.translation() - tcp_start.translation(),
                      &food->coupling_absorbed_j);
     const FoodStepReport food_report =
-        AdvanceFood(*model.food, tcp_start, tcp_end, model.physics_timestep_s, food, cancelled);
+        AdvanceFood(*model.food, tcp_start, tcp_end, model.physics_timestep_s, food, cancelled, save_food_body);
     if (food_report.cancelled && stop_here()) return result;
     RecordKnifePeaks(tcp_start, tcp_end, model.physics_timestep_s, food_report.contact, food->wrench, &state->safety);
     tcp_start = tcp_end;
