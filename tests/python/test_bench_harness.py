@@ -12,7 +12,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+    sys.path.append(str(ROOT))  # the checkout's bench package, after everything pytest put first
 
 from bench import cli, registry  # noqa: E402
 from bench.harness import Docs, fastest, interleaved, percentiles, spread, stamp_of  # noqa: E402
