@@ -35,6 +35,7 @@ def _list(as_json: bool) -> int:
     if as_json:
         print(json.dumps([{"name": b.name, "script": b.script, "page": b.page and f"docs/{b.page}",
                            "json": b.json and f"docs/{b.json}", "measures": b.measures, "duration": b.duration,
+                           "needs": list(b.needs), "images": [f"docs/{i}" for i in b.images],
                            "quick": None if b.quick is None else list(b.quick), "why_not_quick": b.why_not_quick}
                           for b in BENCHMARKS], indent=1))
         return 0
