@@ -15,10 +15,7 @@ and is marked partial (its cut-phase rate still says what a simulated second of 
 """
 from __future__ import annotations
 
-import argparse
-import json
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -27,10 +24,13 @@ from culinarycut.launch import ServerProcess
 from culinarycut.policies import run_oracle_episode
 from culinarycut.scenes import CUT_CUCUMBER_INSTRUCTION, cut_cucumber_scene
 
-from accuracy_cost import standard_verdict  # bench/, this script's folder
-from step_latency import machine_info
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness import Docs, arguments, docs_for, machine_info, pyplot, save_figure, today  # noqa: E402
+from bench.lib import quick  # noqa: E402
+from bench.lib.accuracy import standard_verdict  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
+PAGE, RESULTS = "benchmarks/cut_episode.md", "benchmarks/cut_episode.json"
 STAGES = ("robot", "mpm", "render", "rpc_client")
 
 
@@ -59,11 +59,14 @@ FAST, YARDSTICK = "standard, mass x16", "previous standard"
 REPEATED = ("standard", YARDSTICK)
 
 
-def measure(client: Client, preset: str, max_wall_s: float) -> dict:
+def measure(client: Client, preset: str, max_wall_s: float, tiny: bool = False) -> dict:
+    """One episode at a setting; `tiny`: a coarse strawberry at 32 px (the smoke pass)."""
     quality, mpm = SETTINGS[preset]
     scene = cut_cucumber_scene(CUT_CUCUMBER_INSTRUCTION, quality, 224, 224)
     if mpm:
         scene["mpm"] = dict(mpm)
+    if tiny:
+        scene = quick.food_scene(scene, coarse=True)
     print(f"{preset}: running the episode (stops after {max_wall_s:.0f} s of wall time)...", flush=True)
 
     def progress(step, observation, info):
@@ -91,11 +94,7 @@ def measure(client: Client, preset: str, max_wall_s: float) -> dict:
 
 
 def plot(rows: list[dict], path: Path) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(7, 3.2), dpi=120)
+    fig, ax = pyplot().subplots(figsize=(7, 3.2), dpi=120)
     width = 0.8 / len(STAGES)
     for k, (stage, colour) in enumerate(zip(STAGES, ("tab:blue", "tab:orange", "tab:green", "tab:gray"))):
         values = [row["stages_s"][stage] / row["sim_s"] for row in rows]
@@ -106,41 +105,41 @@ def plot(rows: list[dict], path: Path) -> None:
     ax.set_title("example cut: wall time per simulated second of the episode, by stage")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    save_figure(fig, path, dpi=None)
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = arguments(__doc__, whole_doc=True, render_only=True)
     parser.add_argument("--settings", nargs="+", default=["draft", "standard", YARDSTICK, FAST],
                         choices=list(SETTINGS), help="fine (dx 2 mm) takes most of an hour of 2 cores")
     parser.add_argument("--max-wall-s", type=float, default=900.0, help="per episode")
-    parser.add_argument("--render-only", action="store_true", help="redraw the page from the stored JSON")
     args = parser.parse_args()
-    out = ROOT / "docs" / "benchmarks"
+    docs = docs_for(args)
     if args.render_only:
-        write_page(json.loads((out / "cut_episode.json").read_text()))
+        write_page(docs.stored(RESULTS), docs)
         return 0
+    if args.quick:  # the smoke pass: the draft setting on a strawberry, 32 px cameras
+        args.settings = ["draft"]
     rows: dict[str, dict] = {}
     repeats = list(REPEATED) if set(REPEATED) <= set(args.settings) else []
     server = ServerProcess(max_sessions=2, idle_timeout_s=3600)
     try:
         with Client(server.address, timeout_s=3600) as client:
             for preset in [*args.settings, *repeats]:
-                row = measure(client, preset, args.max_wall_s)
+                row = measure(client, preset, args.max_wall_s, args.quick)
                 runs = [*rows[preset]["wall_s_runs"], row["wall_s"]] if preset in rows else [row["wall_s"]]
                 if preset not in rows or row["wall_s"] < rows[preset]["wall_s"]:
-                    rows[preset] = row
+                    rows[preset] = row  # the fastest run: the machine's drift only ever slows a run down
                 rows[preset]["wall_s_runs"] = runs
     finally:
         server.stop()
-    stored = {"machine": machine_info(), "date": time.strftime("%Y-%m-%d"), "rows": list(rows.values())}
-    (out / "cut_episode.json").write_text(json.dumps(stored, indent=1))
-    write_page(stored)
+    stored = {"machine": machine_info(), "date": today(), "rows": list(rows.values())}
+    docs.write_json(RESULTS, stored, __file__)
+    write_page(stored, docs)
     return 0
 
 
-def write_page(stored: dict) -> None:
+def write_page(stored: dict, docs: Docs) -> None:
     """docs/benchmarks/cut_episode.md and its chart from a run's rows, machine and date."""
     rows = stored["rows"]
     lines = [
@@ -198,8 +197,8 @@ def write_page(stored: dict) -> None:
               "", "The accuracy of each setting against a converged reference is measured on cc-cut's cuts in "
               "docs/accuracy.md (a robot episode at the reference's resolution would take hours)."]
     lines += ["", "![stages per preset](../images/cut_episode_stages.png)", ""]
-    (ROOT / "docs" / "benchmarks" / "cut_episode.md").write_text("\n".join(lines))
-    plot(rows, ROOT / "docs" / "images" / "cut_episode_stages.png")
+    docs.write_page(PAGE, "\n".join(lines), __file__, RESULTS, stored)
+    plot(rows, docs.image("cut_episode_stages.png"))
     print("\n".join(lines))
 
 

@@ -7,32 +7,32 @@ weights the states as the paper's tasks do (9 ratios, 1 middle, 3 splits of 13).
 docs/benchmarks/dataset_throughput.{md,json}.
 
     .venv/bin/python bench/dataset_throughput.py [--quality draft] [--servers 2] [--workers 2]
+    .venv/bin/python bench/dataset_throughput.py --quality standard --styles normal   # the _standard page
 """
 from __future__ import annotations
 
-import argparse
-import json
 import subprocess
 import sys
 import tempfile
 import time
-from datetime import date
 from pathlib import Path
 
 from culinarycut.datasets.store import GenerationStore
 from culinarycut.launch import ServerProcess
 
-from step_latency import machine_info  # bench/, this script's folder: the machine description every benchmark writes
-
-ROOT = Path(__file__).resolve().parents[1]
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness import arguments, docs_for, machine_info, today  # noqa: E402
+from bench.lib import quick  # noqa: E402
 PAPER_TRAJECTORIES = 325_000
 STATES = {"ratio": ("ratio-0.3", 9 / 13), "middle": ("middle", 1 / 13), "split": ("split-3", 3 / 13)}
 
 
-def generate(out: Path, servers: list[str], workers: int, quality: str, size: int, styles: str) -> float:
+def generate(out: Path, servers: list[str], workers: int, quality: str, size: int, styles: str,
+             states: list[str], food: list[str]) -> float:
     command = [sys.executable, "-m", "culinarycut", "data", "generate", "--out", str(out), "--styles", styles,
-               "--states", ",".join(s for s, _ in STATES.values()), "--quality", quality, "--image-size", str(size),
-               "--workers", str(workers), "--shard-size", "1", "--no-progress"]
+               "--states", ",".join(states), "--quality", quality, "--image-size", str(size),
+               "--workers", str(workers), "--shard-size", "1", "--no-progress", *food]
     for server in servers:
         command += ["--server", server]
     started = time.perf_counter()
@@ -43,7 +43,7 @@ def generate(out: Path, servers: list[str], workers: int, quality: str, size: in
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = arguments(__doc__)
     parser.add_argument("--quality", default="draft")
     parser.add_argument("--servers", type=int, default=2)
     parser.add_argument("--workers", type=int, default=2)
@@ -53,13 +53,19 @@ def main() -> int:
                                       "with _QUALITY for other presets than draft)")
     args = parser.parse_args()
     suffix = "" if args.quality == "draft" else f"_{args.quality}"
-    args.out = args.out or str(ROOT / "docs" / "benchmarks" / f"dataset_throughput{suffix}")
+    docs = docs_for(args, Path(args.out).parent if args.out else None)
+    name = Path(args.out).name if args.out else f"dataset_throughput{suffix}"
+    # The smoke pass: one strawberry middle cut, 32 px cameras, one server and worker.
+    states, food = ((["middle"], ["--food", quick.FOOD]) if args.quick else
+                    ([state for state, _ in STATES.values()], []))
+    if args.quick:
+        args.servers, args.workers, args.image_size, args.styles = 1, 1, quick.IMAGE_SIZE, "normal"
     with tempfile.TemporaryDirectory() as scratch:
         folder = Path(scratch)
         servers = [ServerProcess(max_sessions=4) for _ in range(args.servers)]
         try:
             wall_s = generate(folder / "data", [s.address for s in servers], args.workers, args.quality,
-                              args.image_size, args.styles)
+                              args.image_size, args.styles, states, food)
         finally:
             for server in servers:
                 server.stop()
@@ -84,7 +90,7 @@ def main() -> int:
     keep_rate = len(kept) / len(rows)
     export_per_episode_s = export_s / max(1, len(kept))
     per_kept_s = weighted_s / max(keep_rate, 1e-9) + export_per_episode_s
-    result = {"date": date.today().isoformat(), "machine": machine_info(), "quality": args.quality,
+    result = {"date": today(), "machine": machine_info(), "quality": args.quality,
               "cameras": "front, left, right RGB", "image_size": args.image_size, "servers": args.servers,
               "workers": args.workers, "servers_used": len({r["server"] for r in rows}), "styles": args.styles, "episodes": len(rows), "kept": len(kept), "keep_rate": keep_rate,
               "run_wall_s": wall_s, "episodes_per_hour": 3600.0 * len(rows) / wall_s,
@@ -94,9 +100,7 @@ def main() -> int:
               "paper_trajectories": PAPER_TRAJECTORIES,
               "projected_machine_hours": PAPER_TRAJECTORIES * per_kept_s / 3600.0,
               "rejected": [{"key": r["key"], "reason": r["reason"]} for r in rows if not r["kept"]]}
-    out = Path(args.out)
-    out.with_suffix(".json").write_text(json.dumps(result, indent=2))
-    out.with_suffix(".md").write_text(markdown(result))
+    docs.publish(f"benchmarks/{name}.md", markdown(result), f"benchmarks/{name}.json", result, __file__, indent=2)
     print(markdown(result))
     return 0
 

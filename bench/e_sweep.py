@@ -5,15 +5,12 @@ Panda), and we record the peak wrist force (averaged over each 50 ms control ste
 accumulation window) and the knife's speed just after impact, beside the paper's numbers.
 Writes docs/benchmarks/e_sweep.{md,json} and docs/images/e_sweep.png.
 
-    .venv/bin/python bench/e_sweep.py [--quality draft]
+    .venv/bin/python bench/e_sweep.py [--quality draft] [--render-only]
 """
 from __future__ import annotations
 
-import argparse
-import json
 import sys
 import time
-from datetime import date
 from pathlib import Path
 
 import numpy as np
@@ -22,17 +19,21 @@ from culinarycut.launch import ServerProcess, server_binary
 from culinarycut.policies import run_oracle_episode
 from culinarycut.scenes import cut_cucumber_scene
 
-from step_latency import machine_info  # bench/, this script's folder
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness import Docs, arguments, dated_machine_info, docs_for, pyplot, save_figure  # noqa: E402
+from bench.lib import quick  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
+PAGE, RESULTS = "benchmarks/e_sweep.md", "benchmarks/e_sweep.json"
 YOUNGS_MPA = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9]
 # The paper's reported end points ("Force magnitudes", supplement): peak force and post-impact speed.
 PAPER = {"force_n": {0.1: 69.96, 0.9: 77.34}, "speed_m_s": {0.1: 0.22, 0.9: 0.02}}
 IMPACT_WINDOW_STEPS = 2  # post-impact speed: mean TCP speed over the 2 control steps after first contact
 
 
-def episode(client: Client, youngs_mpa: float, quality: str) -> dict:
+def episode(client: Client, youngs_mpa: float, quality: str, tiny: bool = False) -> dict:
     scene = cut_cucumber_scene(quality=quality, cameras=())
+    scene = quick.food_scene(scene, coarse=True) if tiny else scene  # the smoke pass: a coarse strawberry
     scene["objects"][0]["material_overrides"] = {"youngs_modulus_pa": youngs_mpa * 1e6}
     started = time.perf_counter()
     trace = run_oracle_episode(client, scene, seed=0)
@@ -51,31 +52,36 @@ def episode(client: Client, youngs_mpa: float, quality: str) -> dict:
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = arguments(__doc__, render_only=True)
     parser.add_argument("--quality", default="draft", choices=["draft", "standard"])
-    parser.add_argument("--out", default=str(ROOT / "docs" / "benchmarks"))
+    parser.add_argument("--out", type=Path, default=None, help="the folder of the page and JSON "
+                                                               "(default docs/benchmarks)")
     args = parser.parse_args()
+    docs = docs_for(args, args.out)
+    if args.render_only:
+        write_outputs(docs.stored(RESULTS), docs)
+        return 0
     results = []
     with ServerProcess(server_binary()) as server, Client(server.address, timeout_s=600) as client:
-        for youngs_mpa in YOUNGS_MPA:
-            results.append(episode(client, youngs_mpa, args.quality))
+        for youngs_mpa in YOUNGS_MPA[-1:] if args.quick else YOUNGS_MPA:
+            results.append(episode(client, youngs_mpa, args.quality, args.quick))
             r = results[-1]
             print(f"E {youngs_mpa:.1f} MPa: peak {r['peak_force_n']:.1f} N, speed {r['speed_before_impact_m_s']} -> "
                   f"{r['speed_after_impact_m_s']} m/s, success {r['success']}, {r['wall_s']:.0f} s", flush=True)
-    machine = {**machine_info(), "date": date.today().isoformat()}
-    out = Path(args.out)
-    (out / "e_sweep.json").write_text(json.dumps({"machine": machine, "quality": args.quality, "results": results}))
-    _plot(results, ROOT / "docs" / "images" / "e_sweep.png")
-    (out / "e_sweep.md").write_text(_markdown(results, machine, args.quality))
-    print(f"wrote {out / 'e_sweep.md'}")
+    stored = {"machine": dated_machine_info(), "quality": args.quality, "results": results}
+    docs.write_json(RESULTS, stored, __file__, indent=None)
+    write_outputs(stored, docs)
+    print(f"wrote {docs.path(PAGE)}")
     return 0
 
 
+def write_outputs(stored: dict, docs: Docs) -> None:
+    _plot(stored["results"], docs.image("e_sweep.png"))
+    docs.write_page(PAGE, _markdown(stored["results"], stored["machine"], stored["quality"]), __file__, RESULTS, stored)
+
+
 def _plot(results: list[dict], path: Path) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    figure, (force, speed) = plt.subplots(1, 2, figsize=(10, 3.4))
+    figure, (force, speed) = pyplot().subplots(1, 2, figsize=(10, 3.4))
     e = [r["youngs_mpa"] for r in results]
     force.plot(e, [r["peak_force_n"] for r in results], "o-", label="CulinaryCut (this build)")
     force.plot(list(PAPER["force_n"]), list(PAPER["force_n"].values()), "s--", label="paper (end points)")
@@ -90,7 +96,7 @@ def _plot(results: list[dict], path: Path) -> None:
     speed.legend(fontsize=8)
     speed.grid(alpha=0.3)
     figure.tight_layout()
-    figure.savefig(path, dpi=110)
+    save_figure(figure, path)
 
 
 def _markdown(results: list[dict], machine: dict, quality: str) -> str:

@@ -10,25 +10,24 @@ One cc-cut process on one thread at a time, so the timings are comparable; run i
 """
 from __future__ import annotations
 
-import argparse
-import json
 import sys
 import tempfile
-from datetime import date
 from pathlib import Path
 
-from physics_validation import run, scene  # bench/ is on the path
-from step_latency import machine_info
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness import arguments, cc_cut, dated_machine_info, docs_for, fastest, interleaved, missing  # noqa: E402
+from bench.lib.cc_cut import run, scene  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
+PAGE, RESULTS = "benchmarks/grid_extent.md", "benchmarks/grid_extent.json"
 MARGINS = (1, 2, 3)
 # The robot's cutting speed (the slow cut of docs/accuracy.md) and the study's faster normal cut.
 CASES = {"cucumber, normal, 0.05 m/s": ("cucumber", 0.05), "banana, normal, 0.5 m/s": ("banana", 0.5)}
 
 
-def standard_scene(food: str, speed_m_s: float, margin: int) -> dict:
-    spec = scene(food, 0.004, speed_m_s)
-    spec["scene"]["mpm"] = {"dx": 0.004, "particles_per_cell": 8, "cfl": 0.4}  # the standard preset of 2026-11-26
+def standard_scene(food: str, speed_m_s: float, margin: int, dx_m: float = 0.004) -> dict:
+    spec = scene(food, dx_m, speed_m_s)
+    spec["scene"]["mpm"] = {"dx": dx_m, "particles_per_cell": 8, "cfl": 0.4}  # the standard preset of 2026-11-26
     spec["solver"]["grid_margin_cells"] = margin
     return spec
 
@@ -40,26 +39,30 @@ def cut(cc_cut: Path, spec: dict, workdir: Path) -> dict:
             "peak_mb": r["max_rss_mb"]}
 
 
-def measure(cc_cut: Path, repeats: int) -> dict:
-    results = {name: {m: [] for m in MARGINS} for name in CASES}
+def measure(cc_cut: Path, repeats: int, cases: dict = CASES, dx_m: float = 0.004) -> dict:
+    """Every case at every margin, interleaved (slow drift of the machine hits every setting alike), `repeats`
+    times: {case: {margin: [run, ...]}}."""
+    settings = {(name, margin): (food, speed, margin) for name, (food, speed) in cases.items() for margin in MARGINS}
     with tempfile.TemporaryDirectory() as tmp:
-        for repeat in range(repeats):
-            for name, (food, speed) in CASES.items():
-                for margin in MARGINS:  # interleaved: slow drift of the machine hits every setting alike
-                    print(f"repeat {repeat + 1}/{repeats}: {name}, margin {margin}", flush=True)
-                    results[name][margin].append(cut(cc_cut, standard_scene(food, speed, margin), Path(tmp)))
+        runs = interleaved({key: (lambda f=food, s=speed, m=margin:
+                                  cut(cc_cut, standard_scene(f, s, m, dx_m), Path(tmp)))
+                            for key, (food, speed, margin) in settings.items()}, repeats,
+                           lambda r, key: print(f"repeat {r + 1}/{repeats}: {key[0]}, margin {key[1]}", flush=True))
+    results: dict = {}
+    for (name, margin), by_repeat in runs.items():
+        results.setdefault(name, {})[margin] = by_repeat
     return results
 
 
 def summarise(results: dict) -> dict:
     rows = {}
     for name, by_margin in results.items():
-        fastest = {m: min(runs, key=lambda r: r["wall_s"]) for m, runs in by_margin.items()}
-        base = fastest[3]
+        fastest_of = {m: fastest(runs) for m, runs in by_margin.items()}
+        base = fastest_of[3]
         rows[name] = [{"margin": m, **r, "time_vs_3": r["wall_s"] / base["wall_s"],
                        "peak_force_change": abs(r["peak_force_n"] / base["peak_force_n"] - 1.0),
                        "cut_fraction_change": abs(r["cut_fraction"] - base["cut_fraction"])}
-                      for m, r in sorted(fastest.items())]
+                      for m, r in sorted(fastest_of.items())]
     return rows
 
 
@@ -102,24 +105,26 @@ def markdown(rows: dict, machine: dict, repeats: int) -> str:
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--cc-cut", type=Path, default=ROOT / "build" / "tools" / "cc_cut" / "cc-cut")
+    parser = arguments(__doc__, whole_doc=True)
+    parser.add_argument("--cc-cut", type=Path, default=cc_cut())
     parser.add_argument("--repeats", type=int, default=3)
     args = parser.parse_args()
-    if not args.cc_cut.exists():
-        print(f"error: no cc-cut at {args.cc_cut}; build it (scripts/build.sh) or pass --cc-cut", file=sys.stderr)
-        return 2
+    docs = docs_for(args)
+    if code := missing(args.cc_cut, "--cc-cut"):
+        return code
     if args.repeats < 1:
         print("error: --repeats must be at least 1", file=sys.stderr)
         return 2
-    results = measure(args.cc_cut, args.repeats)
+    if args.quick:  # the smoke pass: the banana at dx 8 mm, once
+        args.repeats = 1
+        results = measure(args.cc_cut, 1, {"banana, normal, 0.5 m/s": ("banana", 0.5)}, 0.008)
+    else:
+        results = measure(args.cc_cut, args.repeats)
     rows = summarise(results)
-    machine = {**machine_info(), "date": date.today().isoformat()}
-    out = ROOT / "docs" / "benchmarks" / "grid_extent"
-    out.with_suffix(".json").write_text(json.dumps({"machine": machine, "repeats": args.repeats, "runs": results,
-                                                    "rows": rows}, indent=1))
-    out.with_suffix(".md").write_text(markdown(rows, machine, args.repeats))
-    print(out.with_suffix(".md").read_text())
+    machine = dated_machine_info()
+    docs.publish(PAGE, markdown(rows, machine, args.repeats), RESULTS,
+                 {"machine": machine, "repeats": args.repeats, "runs": results, "rows": rows}, __file__)
+    print(docs.path(PAGE).read_text())
     return 0
 
 

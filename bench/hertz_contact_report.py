@@ -7,46 +7,45 @@ its JSON and docs/images/hertz_contact.png (the plate's force against 4/3 E* sqr
 """
 from __future__ import annotations
 
-import argparse
 import json
 import subprocess
 import sys
-from datetime import date
 from pathlib import Path
 
-from step_latency import machine_info  # bench/, this script's folder
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness import (Docs, arguments, bench_binary, dated_machine_info, docs_for, missing, pyplot,  # noqa: E402
+                           save_figure)
 
-ROOT = Path(__file__).resolve().parents[1]
-RESULTS_JSON = ROOT / "docs" / "benchmarks" / "hertz_contact.json"
-PAGE = ROOT / "docs" / "benchmarks" / "hertz_contact.md"
-PLOT = ROOT / "docs" / "images" / "hertz_contact.png"
+PAGE, RESULTS = "benchmarks/hertz_contact.md", "benchmarks/hertz_contact.json"
 DX_M = (0.004, 0.003, 0.002)
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--bench", type=Path, default=ROOT / "build" / "bench" / "bench_hertz_contact")
+    parser = arguments(__doc__, render_only=True)
+    parser.add_argument("--bench", type=Path, default=bench_binary("bench_hertz_contact"))
     args = parser.parse_args()
-    if not args.bench.exists():
-        print(f"error: no {args.bench}; build it (scripts/build.sh) or pass --bench", file=sys.stderr)
-        return 2
+    docs = docs_for(args)
+    if args.render_only:
+        render(docs.stored(RESULTS), docs)
+        return 0
+    if code := missing(args.bench, "--bench"):
+        return code
+    spacings = (0.008,) if args.quick else DX_M  # the smoke pass: one coarse run
     runs = []
-    for i, dx_m in enumerate(DX_M, 1):
-        print(f"[{i}/{len(DX_M)}] dx {dx_m * 1e3:g} mm ...", flush=True)
+    for i, dx_m in enumerate(spacings, 1):
+        print(f"[{i}/{len(spacings)}] dx {dx_m * 1e3:g} mm ...", flush=True)
         runs.append(json.loads(subprocess.run([str(args.bench), str(dx_m)], check=True, capture_output=True,
                                               text=True).stdout))
-    stored = {"machine": {**machine_info(), "date": date.today().isoformat()}, "runs": runs}
-    RESULTS_JSON.write_text(json.dumps(stored, indent=1))
-    render(stored)
-    print(f"wrote {PAGE.relative_to(ROOT)}")
+    stored = {"machine": dated_machine_info(), "runs": runs}
+    docs.write_json(RESULTS, stored, __file__)
+    render(stored, docs)
+    print(f"wrote {docs.path(PAGE)}")
     return 0
 
 
-def render(stored: dict) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(5.6, 3.6))
+def render(stored: dict, docs: Docs) -> None:
+    fig, ax = pyplot().subplots(figsize=(5.6, 3.6))
     for r in stored["runs"]:
         ax.plot([p["indentation_m"] * 1e3 for p in r["points"]], [p["force_n"] for p in r["points"]], "o-",
                 label=f"MPM, dx {r['dx_m'] * 1e3:g} mm")
@@ -57,8 +56,7 @@ def render(stored: dict) -> None:
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(PLOT, dpi=110)
-    plt.close(fig)
+    save_figure(fig, docs.image("hertz_contact.png"))
     machine = stored["machine"]
     first = stored["runs"][0]
     lines = ["# Hertz contact", "",
@@ -90,7 +88,7 @@ def render(stored: dict) -> None:
               "clamps): the contact behaves as if it had engaged that much earlier. The particles at the contact are "
               "squeezed to the J clamp's bound. The target is within 10 % of Hertz up to 10 % indentation with no J "
               "clamp.", ""]
-    PAGE.write_text("\n".join(lines))
+    docs.write_page(PAGE, "\n".join(lines), __file__, RESULTS, stored)
 
 
 if __name__ == "__main__":

@@ -7,15 +7,17 @@ Usage: .venv/bin/python bench/mpm_throughput_report.py [--binary build/bench/ben
 """
 from __future__ import annotations
 
-import argparse
 import json
 import platform
 import subprocess
 import sys
-import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness import arguments, bench_binary, cpu_model, docs_for, missing, wait_for_idle  # noqa: E402
+
+PAGE, RESULTS = "benchmarks/mpm_throughput.md", "benchmarks/mpm_throughput.json"
 TARGET_PARTICLE_STEPS_PER_S = 10e6  # the engine's throughput target: 100k particles, 2 threads, float32
 
 # Work of one particle-step, counted from sim/mpm/solver.cc (float32; see the report for the
@@ -30,52 +32,29 @@ BYTES_PER_PARTICLE_STEP = 480
 FLOPS_PER_PARTICLE_STEP = 1400
 
 
-def cpu_model() -> str:
-    for line in Path("/proc/cpuinfo").read_text().splitlines():
-        if line.startswith("model name"):
-            return line.split(":", 1)[1].strip()
-    return platform.processor() or "unknown"
-
-
-def idle_percent(seconds: float = 2.0) -> float:
-    """The share of CPU time the whole machine spent idle over the next `seconds`."""
-    def sample() -> tuple[int, int]:
-        fields = [int(v) for v in Path("/proc/stat").read_text().split("\n", 1)[0].split()[1:]]
-        return fields[3], sum(fields)
-    idle0, total0 = sample()
-    time.sleep(seconds)
-    idle1, total1 = sample()
-    return 100.0 * (idle1 - idle0) / max(1, total1 - total0)
-
-
-def wait_for_idle(max_wait_s: float) -> float:
-    """Waits until other jobs leave the machine idle (this VM is shared); returns the idle share."""
-    deadline = time.monotonic() + max_wait_s
-    while True:
-        idle = idle_percent()
-        if idle >= IDLE_PERCENT or time.monotonic() > deadline:
-            return idle
-
-
-def run(binary: Path, benchmark_filter: str) -> dict:
-    out = subprocess.run([str(binary), "--benchmark_format=json", f"--benchmark_repetitions={REPETITIONS}",
+def run(binary: Path, benchmark_filter: str, repetitions: int) -> dict:
+    out = subprocess.run([str(binary), "--benchmark_format=json", f"--benchmark_repetitions={repetitions}",
                           "--benchmark_report_aggregates_only=true", f"--benchmark_filter={benchmark_filter}"],
                          check=True, capture_output=True, text=True)
     return json.loads(out.stdout)
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--binary", type=Path, default=ROOT / "build" / "bench" / "bench_mpm_throughput")
+    parser = arguments(__doc__, whole_doc=True)
+    parser.add_argument("--binary", type=Path, default=bench_binary("bench_mpm_throughput"))
     args = parser.parse_args()
-    if not args.binary.is_file():
-        print(f"error: {args.binary} not found; build first (scripts/build.sh)", file=sys.stderr)
-        return 2
+    docs = docs_for(args)
+    if code := missing(args.binary, "--binary"):
+        return code
+    # The smoke pass: 10k particles on one thread and the two machine probes, once each, in one run, without idle
+    # gates.
+    configurations = ["|".join([CONFIGURATIONS[0], *CONFIGURATIONS[-2:]])] if args.quick else CONFIGURATIONS
+    repetitions = 1 if args.quick else REPETITIONS
     benchmarks, idle_before, data = [], {}, None
-    for configuration in CONFIGURATIONS:
-        idle = wait_for_idle(MAX_IDLE_WAIT_S)
+    for configuration in configurations:
+        idle = 100.0 if args.quick else wait_for_idle(IDLE_PERCENT, MAX_IDLE_WAIT_S)
         print(f"running {configuration} (machine {idle:.0f} % idle)...", flush=True)
-        data = run(args.binary, configuration)
+        data = run(args.binary, configuration, repetitions)
         benchmarks += data["benchmarks"]
         for bench in data["benchmarks"]:
             idle_before[bench["run_name"]] = idle
@@ -84,8 +63,8 @@ def main() -> int:
         aggregate = bench.get("aggregate_name", "")
         if bench["name"].startswith("BM_CuttingSubstep") and aggregate == "cv":
             spread[bench["run_name"]] = bench["particle_steps_per_s"]
-        if aggregate not in ("", "median"):
-            continue
+        if aggregate not in ("", "median") or (aggregate == "" and repetitions > 1):
+            continue  # the median of the repetitions (one repetition reports only its run)
         if bench["name"].startswith("BM_CuttingSubstep"):
             rows.append(bench)
         elif bench["name"].startswith("BM_MemoryTriad"):
@@ -107,7 +86,7 @@ def main() -> int:
         f"Machine: {cpu_model()}, {data['context'].get('num_cpus')} CPUs, {platform.platform()}; "
         f"build: Release, no -march flags (SSE2).",
         "",
-        f"Each row is the median of {REPETITIONS} repetitions of at least 1 s each; the last column is the",
+        f"Each row is the median of {repetitions} repetitions of at least 1 s each; the last column is the",
         "run-to-run spread (coefficient of variation). This virtual machine's speed also drifts over",
         "hours, and other jobs on it slow the 2-thread runs most: each OpenMP barrier then waits for a",
         "thread the kernel has descheduled (with two busy neighbours, 100k particles on 2 threads fell",
@@ -150,14 +129,12 @@ def main() -> int:
         "so they, and the SSE2-only build (no FMA, 4 lanes), are what keeps the kernel from the roofline.",
         "",
     ]
-    out_md = ROOT / "docs" / "benchmarks" / "mpm_throughput.md"
-    out_md.write_text("\n".join(lines))
-    (ROOT / "docs" / "benchmarks" / "mpm_throughput.json").write_text(json.dumps(
-        {"context": data["context"], "cpu_model": cpu_model(), "rows": rows, "triad_bytes_per_s": triad,
-         "fma_flops_per_s": fma, "memory_limit": memory_limit, "compute_limit": compute_limit,
-         "idle_percent_before": idle_before}, indent=2))
+    stored = {"context": data["context"], "cpu_model": cpu_model(), "rows": rows, "triad_bytes_per_s": triad,
+              "fma_flops_per_s": fma, "memory_limit": memory_limit, "compute_limit": compute_limit,
+              "idle_percent_before": idle_before}
+    docs.publish(PAGE, "\n".join(lines), RESULTS, stored, __file__, indent=2)
     print("\n".join(lines))
-    print(f"wrote {out_md.relative_to(ROOT)}")
+    print(f"wrote {docs.path(PAGE)}")
     return 0
 
 

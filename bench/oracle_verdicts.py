@@ -13,23 +13,25 @@ the two interleaved step by step in one session each. Writes docs/benchmarks/ora
 """
 from __future__ import annotations
 
-import argparse
 import fnmatch
 import json
 import sqlite3
 import subprocess
 import sys
+import tempfile
 import time
-from datetime import date
 from pathlib import Path
 
 import numpy as np
 from culinarycut import Client
 from culinarycut.launch import ServerProcess, server_binary
 
-from step_latency import machine_info  # bench/, this script's folder: the machine description every benchmark writes
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness import ROOT, arguments, docs_for, machine_info, today  # noqa: E402
+from bench.lib import quick  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
+PAGE, RESULTS = "benchmarks/oracle_verdicts.md", "benchmarks/oracle_verdicts.json"
 # (suite, extra arguments): the smoke suite whole, one trial of each cucumber continuous-ratio task (its
 # banana half repeats the same normal cuts on another food), and coverage's apple, banana and cucumber tasks.
 SUITES = (("smoke", []), ("continuous-ratio", ["--trials", "1", "--tasks", "cucumber/*"]),
@@ -99,12 +101,13 @@ def verdicts(out: Path, extra: list[str]) -> dict:
                           for style, v in signature.items()}}
 
 
-def generate_both_scenes(server: ServerProcess, out: Path) -> dict:
+def generate_both_scenes(server: ServerProcess, out: Path, tiny: bool = False) -> dict:
     """A small dataset over both scenes (every style, middle cuts on the cucumber, two episodes each, resumable):
-    per scene, the episodes generated and kept (the oracle's success)."""
+    per scene, the episodes generated and kept (the oracle's success). `tiny`: one strawberry episode, 32 px."""
     command = [sys.executable, "-m", "culinarycut", "data", "generate", "--out", str(out), "--server", server.address,
-               "--styles", "all", "--states", "middle", "--episodes-per-task", str(DATA_EPISODES_PER_TASK),
-               "--scenes", "table,kitchen", "--workers", "2", "--no-progress"]
+               "--styles", "normal" if tiny else "all", "--states", "middle",
+               "--episodes-per-task", str(DATA_EPISODES_PER_TASK), "--scenes", "table,kitchen", "--workers", "2",
+               "--no-progress", *(["--food", quick.FOOD, "--image-size", str(quick.IMAGE_SIZE)] if tiny else [])]
     started = time.perf_counter()
     done = subprocess.run(command, capture_output=True, text=True)
     if done.returncode != 0:
@@ -117,7 +120,7 @@ def generate_both_scenes(server: ServerProcess, out: Path) -> dict:
             "per_scene": {scene: {"generated": n, "kept": kept} for scene, n, kept in counts}}
 
 
-def render_cost(address: str) -> dict:
+def render_cost(address: str, steps: int = RENDER_STEPS, warmup: int = RENDER_WARMUP) -> dict:
     """Per scene, the server's render time of one 224 px RGB camera per control step (ms), the two scenes
     stepped in turn so that both see the same machine load."""
     scenes = ("table", "kitchen")
@@ -130,17 +133,17 @@ def render_cost(address: str) -> dict:
             for sid in sessions.values():
                 client.reset(sid, seed=0)
             hold = np.zeros(7)  # pd_joint_delta_pos: hold the pose
-            for step in range(RENDER_WARMUP + RENDER_STEPS):
+            for step in range(warmup + steps):
                 for scene, sid in sessions.items():
                     response = client.step(sid, "pd_joint_delta_pos", hold)
-                    if step >= RENDER_WARMUP:
+                    if step >= warmup:
                         times[scene].append(response.info.render_wall_time_ms)
         finally:
             for sid in sessions.values():
                 client.close_session(sid)
     medians = {scene: float(np.median(values)) for scene, values in times.items()}
     ratios = np.asarray(times["kitchen"]) / np.maximum(np.asarray(times["table"]), 1e-9)
-    return {"steps": RENDER_STEPS, "median_ms": medians, "kitchen_over_table_median_ratio": float(np.median(ratios))}
+    return {"steps": steps, "median_ms": medians, "kitchen_over_table_median_ratio": float(np.median(ratios))}
 
 
 def markdown(results: dict) -> str:
@@ -192,26 +195,30 @@ def markdown(results: dict) -> str:
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = arguments(__doc__)
     parser.add_argument("--server-binary", default=str(server_binary()))
     parser.add_argument("--runs", default=str(ROOT / "runs" / "oracle-verdicts"), help="run folders (resumable)")
-    parser.add_argument("--out", default=str(ROOT / "docs" / "benchmarks"))
+    parser.add_argument("--out", type=Path, default=None, help="the folder of the page and JSON "
+                                                               "(default docs/benchmarks)")
     parser.add_argument("--allow-mixed-versions", action="store_true",
                         help="resume run folders another build stored into (the page lists the builds)")
     args = parser.parse_args()
-    runs = Path(args.runs)
-    results = {"date": date.today().isoformat(), "machine": machine_info(), "suites": {}}
-    with ServerProcess(args.server_binary, max_sessions=8, idle_timeout_s=600) as server:
-        for suite, extra in SUITES:
-            print(f"{suite} ...", flush=True)
-            wall_s = run_suite(suite, extra, server, runs / suite, args.allow_mixed_versions)
-            results["suites"][suite] = {**verdicts(runs / suite, extra), "wall_s": wall_s, "args": extra}
-        print("data generate, both scenes ...", flush=True)
-        results["data"] = generate_both_scenes(server, runs / "data")
-        results["render"] = render_cost(server.address)
-    out = Path(args.out)
-    (out / "oracle_verdicts.json").write_text(json.dumps(results, indent=2) + "\n")
-    (out / "oracle_verdicts.md").write_text(markdown(results))
+    docs = docs_for(args, args.out)
+    with tempfile.TemporaryDirectory() as scratch:
+        # The smoke pass: a one-episode suite, one generated episode, 3 render steps, in a scratch folder.
+        runs = Path(scratch) if args.quick else Path(args.runs)
+        suites = (((str(quick.suite(runs)), []),) if args.quick else SUITES)
+        results = {"date": today(), "machine": machine_info(), "suites": {}}
+        with ServerProcess(args.server_binary, max_sessions=8, idle_timeout_s=600) as server:
+            for suite, extra in suites:
+                name = Path(suite).stem
+                print(f"{name} ...", flush=True)
+                wall_s = run_suite(suite, extra, server, runs / name, args.allow_mixed_versions)
+                results["suites"][name] = {**verdicts(runs / name, extra), "wall_s": wall_s, "args": extra}
+            print("data generate, both scenes ...", flush=True)
+            results["data"] = generate_both_scenes(server, runs / "data", tiny=args.quick)
+            results["render"] = render_cost(server.address, *((3, 1) if args.quick else ()))
+    docs.publish(PAGE, markdown(results), RESULTS, results, __file__, indent=2)
     print(markdown(results))
     return 0
 

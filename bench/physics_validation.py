@@ -14,161 +14,78 @@ Each run is one cc-cut process on one thread; the windowed force is the blade im
 """
 from __future__ import annotations
 
-import argparse
-import csv
-import json
 import subprocess
 import sys
 import tempfile
-import time
-from datetime import date
 from pathlib import Path
 
-import numpy as np
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness import (Docs, arguments, cc_cut, dated_machine_info, docs_for, missing, pyplot,  # noqa: E402
+                           save_figure)
+from bench.lib.cc_cut import SCALE, run, scene  # noqa: E402
 
-from step_latency import machine_info  # bench/, this script's folder
-
-ROOT = Path(__file__).resolve().parents[1]
 FOODS = ("cucumber", "apple", "banana")
 DX_M = (0.006, 0.004, 0.003)
-WINDOW_S = 0.005
-RESULTS_JSON = ROOT / "docs" / "benchmarks" / "physics_validation.json"
-CALIBRATION_JSON = ROOT / "docs" / "benchmarks" / "lsdyna_calibration.json"
-SCALE = 0.6  # small foods keep the dx 3 mm runs to seconds
-
-
-def scene(food: str, dx_m: float, speed_m_s: float, overrides: dict | None = None) -> dict:
-    obj = {"food": food, "scale": SCALE, "pose": {"position": [0.5, 0.0]}}
-    if overrides:
-        obj["material_overrides"] = overrides
-    return {"description": f"physics validation: {food} at dx {dx_m * 1e3:g} mm",
-            "scene": {"effects": {"mpm": True, "plasticity": True, "damage": True, "friction": True,
-                                  "force_sensing": True},
-                      "objects": [obj], "quality": "standard",
-                      "mpm": {"dx": dx_m, "particles_per_cell": 8, "cfl": 0.2}, "seed": 0},
-            "solver": {"threads": 1},
-            "knife": {"cut_fraction": 0.5, "start_above_top_m": 0.003, "end_below_bottom_m": 0.001,
-                      "descent_speed_m_s": speed_m_s, "lift_speed_m_s": 1.0, "settle_s": 0.02,
-                      "force_window_s": WINDOW_S}}
-
-
-# The world advances the food once per robot physics step (500 Hz) and slows the knife by the food's
-# speed resistance summed over that step (sim/world/food_step.cc).
-ROBOT_PHYSICS_STEP_S = 0.002
-
-
-def knife_speed_factor(t_s: np.ndarray, speed_factor: np.ndarray, in_food: np.ndarray) -> float:
-    """The world's knife speed over the commanded one, averaged over the robot physics steps the edge spends
-    in the food: each step's factor is 1 / (1 + u sum(k2 c-hat dt)) over its substeps, and cc-cut's per-substep
-    factor 1 / (1 + u k2 c-hat dt) gives each term u k2 c-hat dt = 1 / factor - 1."""
-    step = np.floor(t_s / ROBOT_PHYSICS_STEP_S).astype(int)
-    terms = 1.0 / speed_factor - 1.0
-    steps = np.unique(step[in_food])
-    if len(steps) == 0:
-        return 1.0
-    sums = np.bincount(step, weights=terms)[steps]
-    return float(np.mean(1.0 / (1.0 + sums)))
-
-
-def run(cc_cut: Path, spec: dict, workdir: Path, particles_npz: Path | None = None) -> dict:
-    """One cc-cut run: the windowed blade and edge force against the edge's depth below the food's top. With
-    `particles_npz`, every particle's rest and final position and piece are saved there (numpy, compressed)."""
-    scene_file = workdir / "scene.json"
-    scene_file.write_text(json.dumps(spec))
-    out = workdir / "out"
-    started = time.perf_counter()
-    subprocess.run([str(cc_cut), str(scene_file), "--out", str(out), "--threads", "1", "--quiet",
-                    *(["--particles"] if particles_npz else [])], check=True)
-    wall_s = time.perf_counter() - started
-    if particles_npz:
-        table = np.loadtxt(out / "particles.csv", delimiter=",", skiprows=1, dtype=np.float64, ndmin=2)
-        np.savez_compressed(particles_npz, rest_m=table[:, 0:3].astype(np.float32),
-                            final_m=table[:, 3:6].astype(np.float32), piece=table[:, 6].astype(np.int32))
-    written = json.loads((out / "summary.json").read_text())
-    summary = written["summary"]
-    with open(out / "steps.csv") as f:
-        rows = list(csv.DictReader(f))
-    col = {k: np.array([float(r[k]) for r in rows])
-           for k in ("t_s", "dt_s", "knife_z_m", "knife_vz_m_s", "blade_fz_n", "edge_fz_n", "speed_factor")}
-    blade = np.cumsum(col["blade_fz_n"] * col["dt_s"])
-    edge = np.cumsum(col["edge_fz_n"] * col["dt_s"])
-    t = col["t_s"]
-    start = np.searchsorted(t, t - WINDOW_S)
-    span = np.maximum(t - t[start], 1e-12)
-    blade_w = (blade - blade[start]) / span
-    edge_w = (edge - edge[start]) / span
-    descending = np.arange(len(t)) <= int(np.argmin(col["knife_z_m"]))
-    top_m = col["knife_z_m"][0] - spec["knife"]["start_above_top_m"]
-    return {"depth_mm": ((top_m - col["knife_z_m"][descending]) * 1e3).tolist(),
-            "blade_n": blade_w[descending].tolist(), "edge_n": edge_w[descending].tolist(),
-            "peak_blade_n": float(blade_w.max()), "peak_edge_n": float(edge_w.max()),
-            # Work of the edge on the food while the knife descends: force times the distance it moved.
-            "edge_work_j": float(np.sum((col["edge_fz_n"] * -col["knife_vz_m_s"] * col["dt_s"])[descending])),
-            "pieces": len(summary["pieces"]),
-            "cut_fraction": summary["cut_fractions"][0] if summary["cut_fractions"] else None,
-            "j_clamps": summary["j_clamps"], "speed_caps": summary["speed_caps"],
-            "substeps": summary["substeps"], "particles": sum(p["particles"] for p in summary["pieces"]),
-            "wall_s": wall_s, "sim_time_s": summary["sim_time_s"], "max_rss_mb": summary["peak_memory_mb"],
-            # The solver's own time (no process start), in all and per stage.
-            "solver_wall_s": summary["wall_time_ms"]["total"] / 1e3,
-            "stage_s": {s: summary["wall_time_ms"][s] / 1e3 for s in ("setup", "p2g", "grid", "g2p")},
-            "cut_fractions": summary["cut_fractions"], "food_length_m": written["resolved"]["food"]["length_m"],
-            "piece_volumes_m3": sorted(p["volume_m3"] for p in summary["pieces"]),
-            "kinetic_to_elastic_energy": summary.get("kinetic_to_elastic_energy"),
-            "knife_speed_factor": knife_speed_factor(t, col["speed_factor"],
-                                                     descending & (col["knife_z_m"] < top_m)),
-            "active_particle_fraction": summary.get("active_particle_fraction", 1.0)}
+PAGE, RESULTS = "physics_validation.md", "benchmarks/physics_validation.json"
+CALIBRATION, CASES = "benchmarks/lsdyna_calibration.json", "benchmarks/physics_cases.json"
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--cc-cut", type=Path, default=ROOT / "build" / "tools" / "cc_cut" / "cc-cut")
+    parser = arguments(__doc__, render_only=True)
+    parser.add_argument("--cc-cut", type=Path, default=cc_cut())
     parser.add_argument("--speed", type=float, default=0.5, help="knife descent speed, m/s")
     parser.add_argument("--calibrate", action="store_true",
                         help="also rerun the LS-DYNA calibration (bench/lsdyna_calibration.py) first")
     args = parser.parse_args()
-    if not args.cc_cut.exists():
-        print(f"error: no cc-cut at {args.cc_cut}; build it (scripts/build.sh) or pass --cc-cut", file=sys.stderr)
-        return 2
+    docs = docs_for(args)
+    if args.render_only:
+        render_doc(docs)
+        return 0
+    if code := missing(args.cc_cut, "--cc-cut"):
+        return code
     if args.calibrate:
         subprocess.run([sys.executable, str(Path(__file__).with_name("lsdyna_calibration.py")), "--cc-cut",
-                        str(args.cc_cut), "--speed", str(args.speed)], check=True)
+                        str(args.cc_cut), "--speed", str(args.speed),
+                        *(["--docs", str(args.docs)] if args.docs else [])],
+                       check=True)
+    # The smoke pass: the banana at dx 8 and 6 mm, and its toughness doubled at 8 mm.
+    foods, dxs, tough = (("banana",), (0.008, 0.006), ("banana", 0.008)) if args.quick else \
+        (FOODS, DX_M, ("cucumber", 0.004))
     results: dict = {"refinement": {}, "toughness": {}}
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
-        for food in FOODS:
-            for dx_m in DX_M:
+        for food in foods:
+            for dx_m in dxs:
                 key = f"{dx_m * 1e3:g}"
                 print(f"{food} at dx {key} mm ...", flush=True)
                 results["refinement"].setdefault(food, {})[key] = run(args.cc_cut, scene(food, dx_m, args.speed), work)
         for factor in (1.0, 2.0):
             overrides = {"fracture_toughness_j_m2": 125.0 * factor}
-            print(f"cucumber, toughness x{factor:g} ...", flush=True)
-            results["toughness"][f"{factor:g}"] = run(args.cc_cut, scene("cucumber", 0.004, args.speed, overrides), work)
-    machine = {**machine_info(), "date": date.today().isoformat()}
-    RESULTS_JSON.write_text(json.dumps({"machine": machine, "speed_m_s": args.speed, **results}, indent=1))
-    _plot(results)
-    render_doc()
-    print("wrote docs/physics_validation.md")
+            print(f"{tough[0]}, toughness x{factor:g} ...", flush=True)
+            results["toughness"][f"{factor:g}"] = run(args.cc_cut, scene(*tough, args.speed, overrides), work)
+    docs.write_json(RESULTS, {"machine": dated_machine_info(), "speed_m_s": args.speed, **results}, __file__)
+    _plot(results, docs.image("physics_validation_refinement.png"))
+    render_doc(docs)
+    print(f"wrote {docs.path(PAGE)}")
     return 0
 
 
-def render_doc() -> None:
-    """docs/physics_validation.md from the stored results of this script and of lsdyna_calibration.py."""
-    stored = json.loads(RESULTS_JSON.read_text())
-    calibration = json.loads(CALIBRATION_JSON.read_text()) if CALIBRATION_JSON.exists() else None
-    from physics_cases import markdown as hard_cases_markdown  # it imports this module: here, not at the top
-    (ROOT / "docs" / "physics_validation.md").write_text(
-        _markdown(stored, stored["machine"], stored["speed_m_s"]) + _calibration_markdown(calibration)
-        + hard_cases_markdown())
+def render_doc(docs: Docs) -> None:
+    """docs/physics_validation.md from the stored results of this script, with what the LS-DYNA calibration
+    (bench/lsdyna_calibration.py) and the hard cases (bench/physics_cases.py) found, each on its own page."""
+    stored = docs.stored(RESULTS)
+    text = (_markdown(stored, stored["machine"], stored["speed_m_s"])
+            + _calibration_summary(docs.load(CALIBRATION, committed=True))
+            + _cases_summary(docs.load(CASES, committed=True)))
+    docs.write_page(PAGE, text, __file__, RESULTS, stored)
 
 
-def _plot(results: dict) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, len(FOODS), figsize=(4.2 * len(FOODS), 3.4), sharey=False)
-    for ax, food in zip(axes, FOODS):
+def _plot(results: dict, path: Path) -> None:
+    foods = list(results["refinement"])
+    fig, axes = pyplot().subplots(1, len(foods), figsize=(4.2 * len(foods), 3.4), sharey=False, squeeze=False)
+    axes = axes[0]
+    for ax, food in zip(axes, foods):
         for key, r in results["refinement"][food].items():
             line, = ax.plot(r["depth_mm"], r["blade_n"], label=f"blade, dx {key} mm")
             ax.plot(r["depth_mm"], r["edge_n"], "--", color=line.get_color(), label=f"edge, dx {key} mm")
@@ -178,8 +95,7 @@ def _plot(results: dict) -> None:
     axes[0].set_ylabel("force on the knife, 5 ms window (N)")
     axes[-1].legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(ROOT / "docs" / "images" / "physics_validation_refinement.png", dpi=110)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def _markdown(results: dict, machine: dict, speed_m_s: float) -> str:
@@ -212,62 +128,39 @@ def _markdown(results: dict, machine: dict, speed_m_s: float) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _calibration_markdown(calibration: dict | None) -> str:
+def _calibration_summary(calibration: dict | None) -> str:
+    """The calibrated toughness, in short, from bench/lsdyna_calibration.py's stored results (its own page has the
+    procedure and what it means)."""
+    lines = ["## Against the LS-DYNA references: the edge toughness calibrated", ""]
     if calibration is None:
-        return "## Against the LS-DYNA references\n\nNot measured yet: run `bench/lsdyna_calibration.py`.\n"
-    machine = calibration["machine"]
-    lines = ["## Against the LS-DYNA references: the edge toughness calibrated", "",
-             "Generated by `bench/lsdyna_calibration.py`. DiSECt's published LS-DYNA runs (Heiden et al., RSS 2021) "
-             "press a 2 mm knife straight down into a 10 x 10 x 5 cm potato prism and a cucumber half-cylinder "
-             "(radius 5 cm, length 10 cm), with E and nu as in our presets (rho 630 and 950 kg/m^3; our cucumber's is 1000), "
-             "and their force plateaus in the bands "
-             "below. cc-cut cuts the same specimens (`specimen` in its scene file) at dx 4 mm "
-             f"at {calibration['speed_m_s']:g} m/s; the plateau is the mean 5 ms-window blade force while "
-             f"the edge is between {calibration['plateau_depth_fraction'][0]:.0%} and "
-             f"{calibration['plateau_depth_fraction'][1]:.0%} of the height down.", "",
-             f"Machine: {machine['cpu_model']}, {machine['cores']} cores, {machine['platform']}; {machine['date']}.", "",
-             "| specimen | reference band (N) | measured G (J/m^2) | plateau with it (N) | edge / faces (N) | "
-             "calibrated G (J/m^2) | plateau with it (N) | in band | draft, 50 mm/s / study speed (N) | wall s |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+        return "\n".join(lines + ["Not measured yet: run `python -m bench run lsdyna_calibration`.", ""]) + "\n"
+    lines += ["The potato and cucumber presets' edge toughness G is calibrated against DiSECt's published LS-DYNA "
+              "knife runs (Heiden et al., RSS 2021), E and nu staying the reference's: "
+              f"[benchmarks/lsdyna_calibration.md](benchmarks/lsdyna_calibration.md) "
+              f"(`bench/lsdyna_calibration.py`, {calibration['machine']['date']}; the procedure, the plots and what "
+              "the calibrated value means).", "",
+              "| specimen | reference band (N) | measured G (J/m^2) | calibrated G (J/m^2) | plateau with it (N) | "
+              "in band | at the standard preset (N) |", "|---|---|---|---|---|---|---|"]
     for r in calibration["references"]:
-        b, a = r["before"], r["after"]
+        now = r.get("current_standard")
         lines.append(f"| {r['name']} | {r['band_n'][0]:g}-{r['band_n'][1]:g} | {r['literature_toughness_j_m2']:g} | "
-                     f"{b['blade_n']:.1f} | {b['edge_n']:.1f} / {b['faces_n']:.1f} | {r['fitted_toughness_j_m2']:.0f} | "
-                     f"{a['blade_n']:.1f} | {'yes' if r['in_band'] else 'no'} | "
-                     f"{r['draft_reference_speed']['blade_n']:.1f} / {r['draft_study_speed']['blade_n']:.1f} | "
-                     f"{b['run']['wall_s'] + a['run']['wall_s']:.0f} |")
-    checked = [r for r in calibration["references"] if "current_standard" in r]
-    if checked:
-        lines += ["", f"The calibration cut at dx 4 mm, 8 particles per cell and CFL 0.2, the standard preset then. "
-                  f"At the standard preset of {checked[0]['current_standard']['date']} "
-                  f"({checked[0]['current_standard']['setting']}, chosen from the "
-                  "accuracy study's front, docs/accuracy.md) the calibrated G gives a plateau of " + ", ".join(
-                      f"{r['current_standard']['blade_n']:.1f} N for the {r['name']} "
-                      f"({'in' if r['current_standard']['in_band'] else 'out of'} its band)" for r in checked)
-                  + " (`bench/lsdyna_calibration.py --check-preset`). Edge / faces there against the calibration "
-                  "cut's: " + ", ".join(
-                      f"{r['current_standard']['edge_n']:.1f} / {r['current_standard']['faces_n']:.1f} N against "
-                      f"{r['after']['edge_n']:.1f} / {r['after']['faces_n']:.1f} N ({r['name']})" for r in checked)
-                  + ": the edge's G L holds, and what moves is the faces' friction, which does not converge "
-                  "(docs/mpm.md, known limits)."]
-    lines += ["", "![force against depth beside the reference bands](images/lsdyna_reference.png)", "",
-              "**Procedure.** The edge's part of the force is G L (docs/mpm.md), linear in the edge toughness G, and "
-              "the faces' friction grows with it (the edge presses the food harder against the faces). From one cut "
-              "with the measured toughness (Jamdagni & Jia, IROS 2019), G = G_measured (F_mid - F_faces) / F_edge is "
-              "the first guess for the middle of the band; secant steps on (G, plateau) follow until the plateau is "
-              "within a quarter of the band's width of its middle (the iterations are in the JSON). That one number "
-              "per material is what the method leaves free; E and nu stay the reference's. The potato and "
-              "cucumber presets carry the calibrated G (`sim/mpm/materials.cc`); the other foods have no reference "
-              "and keep their chosen toughness.", "",
-              "**What it means.** The calibrated G is several times the measured toughness: the LS-DYNA model's force "
-              "is mostly the wedge pressing the flesh aside before its elements erode, which a blade whose faces only "
-              "stop the food (ours, at dx 4 mm against a 2 mm blade) cannot produce, so the edge carries it. DiSECt "
-              "too fits effective parameters far from bulk values to these runs (its potato's E was 4e4 Pa). The "
-              "references press at 35-65 mm/s; at the standard preset that is most of an hour per cut on 2 cores, "
-              "so the study cuts at the speed above and measures the speed's effect at the draft preset (the "
-              "column before last): there the plateau at the references' 50 mm/s is within 2 % of the one at the "
-              "study's speed, while the coarser draft grid itself gives a plateau 10-15 % below the standard "
-              "preset's (the faces' friction is what changes with dx; docs/mpm.md, known limits).", ""]
+                     f"{r['fitted_toughness_j_m2']:.0f} | {r['after']['blade_n']:.1f} | "
+                     f"{'yes' if r['in_band'] else 'no'} | "
+                     + (f"{now['blade_n']:.1f} ({'in' if now['in_band'] else 'out of'} band, {now['date']})"
+                        if now else "-") + " |")
+    return "\n".join(lines + [""]) + "\n"
+
+
+def _cases_summary(cases: dict | None) -> str:
+    """The hard cases' reading, from bench/physics_cases.py's stored results (its own page has the table)."""
+    lines = ["## Hard cases: orientation, stiffness, toughness, sawing, a thin slice", ""]
+    if cases is None:
+        return "\n".join(lines + ["Not measured yet: run `python -m bench run physics_cases`.", ""]) + "\n"
+    from bench.physics_cases import reading  # it renders this page too: imported here, not at the top
+    count = sum(len(group) for group in cases["groups"].values())
+    lines += [f"{count} cases, each one cc-cut run at the standard preset: "
+              f"[benchmarks/physics_cases.md](benchmarks/physics_cases.md) (`bench/physics_cases.py`, "
+              f"{cases['machine']['date']}), whose reading is:", "", *reading(cases["groups"]), ""]
     return "\n".join(lines) + "\n"
 
 

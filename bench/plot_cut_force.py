@@ -2,41 +2,62 @@
 """Plots a cc-cut run: the force of the food on the blade against time, with the knife height,
 the contact strength c-hat and the damaged-particle count (docs/images/mpm_cut_force.png).
 
-Usage: .venv/bin/python bench/plot_cut_force.py OUT_DIR_OF_CC_CUT [--image docs/images/mpm_cut_force.png]
-(first: build/tools/cc_cut/cc-cut tools/cc_cut/examples/cucumber_middle.json --out OUT_DIR_OF_CC_CUT)
-Needs python3-matplotlib (Debian).
+Usage: .venv/bin/python bench/plot_cut_force.py [OUT_DIR_OF_CC_CUT] [--image docs/images/mpm_cut_force.png]
+Without OUT_DIR_OF_CC_CUT it first runs build/tools/cc_cut/cc-cut tools/cc_cut/examples/cucumber_middle.json
+(docs/mpm.md's example cut) into a temporary folder. Needs python3-matplotlib (Debian).
 """
 from __future__ import annotations
 
-import argparse
 import csv
 import json
+import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness import ROOT, arguments, cc_cut, docs_for, missing, pyplot, save_figure  # noqa: E402
+from bench.lib.cc_cut import scene as cut_scene  # noqa: E402
+
+EXAMPLE = ROOT / "tools" / "cc_cut" / "examples" / "cucumber_middle.json"
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("run_dir", type=Path)
-    parser.add_argument("--image", type=Path, default=ROOT / "docs" / "images" / "mpm_cut_force.png")
+    parser = arguments(__doc__, whole_doc=True)
+    parser.add_argument("run_dir", type=Path, nargs="?", help="a cc-cut --out folder (default: run the example)")
+    parser.add_argument("--image", type=Path, default=None, help="default docs/images/mpm_cut_force.png")
+    parser.add_argument("--cc-cut", type=Path, default=cc_cut())
     args = parser.parse_args()
-    steps_csv = args.run_dir / "steps.csv"
+    docs = docs_for(args)
+    args.image = args.image or docs.image("mpm_cut_force.png")
+    if args.run_dir is not None:
+        return plot(args.run_dir, args.image)
+    if code := missing(args.cc_cut, "--cc-cut"):
+        return code
+    with tempfile.TemporaryDirectory() as tmp:
+        example = EXAMPLE
+        if args.quick:  # the smoke pass: a coarse banana instead of the example cucumber
+            example = Path(tmp) / "scene.json"
+            example.write_text(json.dumps(cut_scene("banana", 0.008, 0.5)))
+        subprocess.run([str(args.cc_cut), str(example), "--out", f"{tmp}/out", "--quiet"], check=True)
+        return plot(Path(tmp) / "out", args.image)
+
+
+def plot(run_dir: Path, image: Path) -> int:
+    """The figure of one cc-cut run's output folder."""
+    steps_csv = run_dir / "steps.csv"
     if not steps_csv.is_file():
-        print(f"error: {steps_csv} not found; run cc-cut with --out {args.run_dir} first", file=sys.stderr)
+        print(f"error: {steps_csv} not found; run cc-cut with --out {run_dir} first", file=sys.stderr)
         return 2
     with steps_csv.open() as f:
         rows = list(csv.DictReader(f))
     column = lambda name: [float(r[name]) for r in rows]  # noqa: E731
     t_ms = [1e3 * t for t in column("t_s")]
-    summary = json.loads((args.run_dir / "summary.json").read_text())
+    summary = json.loads((run_dir / "summary.json").read_text())
     scene = summary.get("scene", {})
 
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(9, 6), sharex=True, gridspec_kw={"height_ratios": [2, 1]})
+    fig, (top, bottom) = pyplot().subplots(2, 1, figsize=(9, 6), sharex=True, gridspec_kw={"height_ratios": [2, 1]})
     # The paper averages the impulse over an accumulation window; one cell of knife travel
     # (dx / v) removes the cell-crossing sawtooth of the per-substep force.
     resolved = summary.get("resolved", {})
@@ -87,9 +108,8 @@ def main() -> int:
     fig.suptitle(f"cc-cut: {food.get('food', '?')} at scale {food.get('scale') or 1}, "
                  f"{len(summary['summary'].get('pieces', []))} pieces", fontsize=11)
     fig.tight_layout()
-    args.image.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(args.image, dpi=110)
-    print(f"wrote {args.image}")
+    save_figure(fig, image)
+    print(f"wrote {image}")
     return 0
 
 

@@ -34,7 +34,9 @@ from culinarycut_policies.rdt import RDTPolicy
 from culinarycut_policies.standins import example_statistics
 from culinarycut_policies.standins.process import StandinProcess
 
-from step_latency import machine_info  # bench/, this script's folder: the machine description every benchmark writes
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness import machine_info  # noqa: E402  (the machine description every benchmark writes)
 
 ROOT = Path(__file__).resolve().parents[1]
 

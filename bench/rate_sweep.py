@@ -12,23 +12,20 @@ faces' part (blade minus edge) are read at that same moment.
 """
 from __future__ import annotations
 
-import argparse
-import json
 import sys
 import tempfile
-from datetime import date
 from pathlib import Path
 
 import numpy as np
 
-from physics_cases import SCALE, scene  # bench/, this script's folder
-from physics_validation import run
-from step_latency import machine_info
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness import (Docs, arguments, cc_cut, dated_machine_info, docs_for, missing, pyplot,  # noqa: E402
+                           save_figure)
+from bench.lib.cc_cut import SCALE, run  # noqa: E402
+from bench.lib.cc_cut import preset_scene as scene  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
-RESULTS_JSON = ROOT / "docs" / "benchmarks" / "rate_sweep.json"
-PAGE = ROOT / "docs" / "benchmarks" / "rate_sweep.md"
-PLOT = ROOT / "docs" / "images" / "rate_sweep.png"
+PAGE, RESULTS = "benchmarks/rate_sweep.md", "benchmarks/rate_sweep.json"
 SPEEDS_M_S = (0.05, 0.5, 2.0, 10.0)
 # The branches compared: none (today's presets), and a branch as stiff as the base in shear relaxing over
 # 0.1 s, slower than a 10 m/s cut (2 ms in the food) and faster than a 0.05 m/s one (0.4 s).
@@ -46,34 +43,36 @@ def summarise(r: dict) -> dict:
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--cc-cut", type=Path, default=ROOT / "build" / "tools" / "cc_cut" / "cc-cut")
+    parser = arguments(__doc__, render_only=True)
+    parser.add_argument("--cc-cut", type=Path, default=cc_cut())
     parser.add_argument("--fresh", action="store_true", help="forget stored runs and start over")
     args = parser.parse_args()
-    if not args.cc_cut.exists():
-        print(f"error: no cc-cut at {args.cc_cut}; build it (scripts/build.sh) or pass --cc-cut", file=sys.stderr)
-        return 2
-    stored = {} if args.fresh or not RESULTS_JSON.exists() else json.loads(RESULTS_JSON.read_text())
-    stored["machine"] = {**machine_info(), "date": date.today().isoformat()}
+    docs = docs_for(args)
+    if args.render_only:
+        render(docs.stored(RESULTS), docs)
+        return 0
+    if code := missing(args.cc_cut, "--cc-cut"):
+        return code
+    # The smoke pass: both materials at 2 and 10 m/s (the fewest substeps) at draft.
+    speeds, quality = ((2.0, 10.0), "draft") if args.quick else (SPEEDS_M_S, "standard")
+    stored = (None if args.fresh else docs.load(RESULTS)) or {}
+    stored["machine"] = dated_machine_info()
     runs = stored.setdefault("runs", {})
-    todo = [(b, v) for b in BRANCHES for v in SPEEDS_M_S if f"{v:g}" not in runs.get(b, {})]
+    todo = [(b, v) for b in BRANCHES for v in speeds if f"{v:g}" not in runs.get(b, {})]
     with tempfile.TemporaryDirectory() as tmp:
         for i, (branch, speed) in enumerate(todo, 1):
             print(f"[{i}/{len(todo)}] {branch} at {speed:g} m/s ...", flush=True)
-            result = summarise(run(args.cc_cut, scene(overrides=BRANCHES[branch], speed_m_s=speed),
-                                             Path(tmp)))
+            result = summarise(run(args.cc_cut, scene(overrides=BRANCHES[branch], speed_m_s=speed, quality=quality),
+                                   Path(tmp)))
             runs.setdefault(branch, {})[f"{speed:g}"] = result
-            RESULTS_JSON.write_text(json.dumps(stored, indent=1))  # kept as it comes: a killed sweep resumes
-    render(stored)
-    print(f"wrote {PAGE.relative_to(ROOT)}")
+            docs.write_json(RESULTS, stored, __file__)  # kept as it comes: a killed sweep resumes
+    render(stored, docs)
+    print(f"wrote {docs.path(PAGE)}")
     return 0
 
 
-def render(stored: dict) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(6.0, 3.6))
+def render(stored: dict, docs: Docs) -> None:
+    fig, ax = pyplot().subplots(figsize=(6.0, 3.6))
     for branch, by_speed in stored["runs"].items():
         speeds = sorted(by_speed, key=float)
         ax.plot([float(v) for v in speeds], [by_speed[v]["peak_blade_n"] for v in speeds], "o-", label=f"{branch}: blade")
@@ -85,8 +84,7 @@ def render(stored: dict) -> None:
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(PLOT, dpi=110)
-    plt.close(fig)
+    save_figure(fig, docs.image("rate_sweep.png"))
     machine = stored["machine"]
     lines = [
         "# Knife speed and the cutting force",
@@ -109,7 +107,7 @@ def render(stored: dict) -> None:
                          f"{r['faces_at_peak_n']:.1f} | {r['pieces']} | {r['j_clamps']} | {r['speed_caps']} | "
                          f"{r['substeps']} | {r['wall_s']:.1f} |")
     lines += ["", "![peak force against knife speed](../images/rate_sweep.png)", "", *_reading(stored), ""]
-    PAGE.write_text("\n".join(lines))
+    docs.write_page(PAGE, "\n".join(lines), __file__, RESULTS, stored)
 
 
 def _reading(stored: dict) -> list[str]:

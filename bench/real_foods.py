@@ -10,10 +10,7 @@ One episode at a time (each server step uses the machine's threads), so the wall
 """
 from __future__ import annotations
 
-import argparse
-import json
 import sys
-from datetime import date
 from pathlib import Path
 
 import numpy as np
@@ -23,14 +20,15 @@ from culinarycut.policies import run_oracle_episode
 from culinarycut.scenes import CUTTING_EFFECTS
 from tqdm import tqdm
 
-from step_latency import machine_info  # bench/, this script's folder
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness import arguments, dated_machine_info, docs_for  # noqa: E402
+from bench.lib import quick  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
 
-
-def measure(client: Client, food: str, quality: str, max_wall_s: float) -> dict:
+def measure(client: Client, food: str, quality: str, max_wall_s: float, mpm: dict | None = None) -> dict:
     scene = {"quality": quality, "effects": dict(CUTTING_EFFECTS), "objects": [{"food": food}],
-             "task": {"cut_state": "middle"}}
+             "task": {"cut_state": "middle"}, **({"mpm": mpm} if mpm else {})}
     stalled = []
     bar = tqdm(desc=f"{food} at {quality}", unit="step", leave=False)
 
@@ -73,23 +71,26 @@ def markdown(rows: list[dict], quality: str, machine: dict) -> str:
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = arguments(__doc__, whole_doc=True)
     parser.add_argument("--quality", default="standard", choices=["draft", "standard", "fine"])
     parser.add_argument("--foods", nargs="+", default=["cucumber", "apple", "banana"])
     parser.add_argument("--max-wall-s", type=float, default=1800.0, help="per episode")
     args = parser.parse_args()
+    docs = docs_for(args)
+    if args.quick:  # the smoke pass: the smallest food, coarser than the asked preset
+        args.foods = [quick.FOOD]
+    mpm = quick.COARSE_MPM if args.quick else None
     server = ServerProcess(max_sessions=1, idle_timeout_s=3600)
     try:
         with Client(server.address, timeout_s=3600) as client:
-            rows = [measure(client, food, args.quality, args.max_wall_s) for food in args.foods]
+            rows = [measure(client, food, args.quality, args.max_wall_s, mpm) for food in args.foods]
     finally:
         server.stop()
-    machine = {**machine_info(), "date": date.today().isoformat()}
-    out = ROOT / "docs" / "benchmarks" / f"real_foods_{args.quality}"
-    out.with_suffix(".json").write_text(json.dumps({"machine": machine, "rows": rows}, indent=1))
-    out.with_suffix(".md").write_text(markdown(rows, args.quality, machine))
-    print(out.with_suffix(".md").read_text())
-    return 0 if all(r["success"] for r in rows) else 1
+    machine = dated_machine_info()
+    page, results = f"benchmarks/real_foods_{args.quality}.md", f"benchmarks/real_foods_{args.quality}.json"
+    docs.publish(page, markdown(rows, args.quality, machine), results, {"machine": machine, "rows": rows}, __file__)
+    print(docs.path(page).read_text())
+    return 0 if args.quick or all(r["success"] for r in rows) else 1  # a coarse smoke cut need not succeed
 
 
 if __name__ == "__main__":

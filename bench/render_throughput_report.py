@@ -8,33 +8,31 @@ Usage: .venv/bin/python bench/render_throughput_report.py [--binary build/bench/
 """
 from __future__ import annotations
 
-import argparse
 import json
 import os
-import platform
 import subprocess
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness import arguments, bench_binary, cpu_model, docs_for, missing  # noqa: E402
+
+PAGE, RESULTS = "benchmarks/render_throughput.md", "benchmarks/render_throughput.json"
+QUICK_FILTER = "side:224/cut:0/kitchen:0/all_channels:0"  # the smoke pass: the target's configuration, once
 TARGET_SETS_PER_S = 30.0  # the renderer's throughput target: 224 x 224, three cameras, llvmpipe, 2 cores
 REPETITIONS = 3           # shared machines drift: report medians
 
 
-def cpu_model() -> str:
-    for line in Path("/proc/cpuinfo").read_text().splitlines():
-        if line.startswith("model name"):
-            return line.split(":", 1)[1].strip()
-    return platform.processor() or "unknown"
-
-
-def run(binary: Path) -> dict:
+def run(binary: Path, quick: bool = False) -> dict:
     print(f"running {binary} (about a minute)...", flush=True)
     # Surface extraction uses OpenMP; idle OpenMP workers spinning after each parallel region take
     # the cores llvmpipe rasterises on. Passive waiting is what a rendering server should run with.
     env = dict(os.environ, OMP_WAIT_POLICY=os.environ.get("OMP_WAIT_POLICY", "passive"))
-    out = subprocess.run([str(binary), "--benchmark_format=json", f"--benchmark_repetitions={REPETITIONS}",
-                          "--benchmark_report_aggregates_only=true"],
+    out = subprocess.run([str(binary), "--benchmark_format=json",
+                          f"--benchmark_repetitions={1 if quick else REPETITIONS}",
+                          "--benchmark_report_aggregates_only=true",
+                          *([f"--benchmark_filter={QUICK_FILTER}"] if quick else [])],
                          check=True, capture_output=True, text=True, env=env)
     return json.loads(out.stdout)
 
@@ -49,17 +47,19 @@ def describe(name: str) -> tuple[str, str, str, str]:
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--binary", type=Path, default=ROOT / "build" / "bench" / "bench_render_throughput")
-    parser.add_argument("--out", type=Path, default=ROOT / "docs" / "benchmarks" / "render_throughput.md")
+    parser = arguments(__doc__, whole_doc=True)
+    parser.add_argument("--binary", type=Path, default=bench_binary("bench_render_throughput"))
+    parser.add_argument("--out", type=Path, default=None,
+                        help="the page (default docs/benchmarks/render_throughput.md); its JSON goes beside it")
     args = parser.parse_args()
-    if not args.binary.is_file():
-        print(f"error: {args.binary} not found; build first (target bench_render_throughput)", file=sys.stderr)
-        return 2
+    docs = docs_for(args)
+    if code := missing(args.binary, "--binary"):
+        return code
     load_before = os.getloadavg()[0]
-    data = run(args.binary)
+    data = run(args.binary, args.quick)
     load_after = os.getloadavg()[0]
-    rows = [b for b in data["benchmarks"] if b.get("aggregate_name") == "median"]
+    # The medians of the repetitions (a single repetition reports only its run).
+    rows = [b for b in data["benchmarks"] if b.get("aggregate_name", "") == ("" if args.quick else "median")]
     context = data.get("context", {})
     gl_renderer = context.get("gl_renderer", "unknown")
 
@@ -70,7 +70,7 @@ def main() -> int:
         "Panda and knife, the board, the scene furniture and a 100k-particle cucumber (sampled by",
         "`sim/mpm/food_shapes.h`), its surface extracted from the particles on every set. Written by",
         "`bench/render_throughput_report.py` from `bench/render_throughput.cc`; medians of",
-        f"{REPETITIONS} repetitions.",
+        f"{1 if args.quick else REPETITIONS} repetitions.",
         "",
         "## Machine",
         "",
@@ -100,13 +100,16 @@ def main() -> int:
         "  `glFinish`; *read-back*: `glReadPixels` of the requested channels and the row flips.",
         "- The target applies to 224 x 224 RGB on llvmpipe with 2 cores; 640 x 480 and the extra",
         "  channels are reported for reference. Re-run: build `bench_render_throughput`, then",
-        "  `.venv/bin/python bench/render_throughput_report.py --binary <build>/bench/bench_render_throughput`.",
+        "  `.venv/bin/python -m bench run render_throughput --build <build>`.",
         "",
     ]
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text("\n".join(lines))
-    args.out.with_suffix(".json").write_text(json.dumps(data, indent=1))
-    print(f"wrote {args.out}")
+    if args.out:  # a page elsewhere, its JSON beside it
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        args.out.with_suffix(".json").write_text(json.dumps(data, indent=1))
+        args.out.write_text("\n".join(lines))
+    else:
+        docs.publish(PAGE, "\n".join(lines), RESULTS, data, __file__)
+    print(f"wrote {args.out or docs.path(PAGE)}")
     return 0
 
 

@@ -8,43 +8,19 @@ Writes docs/benchmarks/safety_dataset.md and docs/benchmarks/safety_dataset.json
 """
 from __future__ import annotations
 
-import argparse
-import json
-import os
 import subprocess
 import sys
 import tempfile
-import threading
-from datetime import date
 from pathlib import Path
 
 import numpy as np
 from culinarycut.safety.dataset import read_header, read_rows
 
-from step_latency import machine_info  # bench/, this script's folder
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness import ROOT, LoadSampler, arguments, dated_machine_info, docs_for  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
-
-
-class LoadSampler:
-    """The 1-minute load average every 10 s while a run goes: on a shared machine it says what the run had."""
-
-    def __init__(self):
-        self.samples: list[float] = []
-        self._stop = threading.Event()
-        self._thread = threading.Thread(target=self._sample, daemon=True)
-
-    def _sample(self) -> None:
-        while not self._stop.wait(10.0):
-            self.samples.append(os.getloadavg()[0])
-
-    def __enter__(self):
-        self._thread.start()
-        return self
-
-    def __exit__(self, *exc):
-        self._stop.set()
-        self._thread.join()
+PAGE, RESULTS = "benchmarks/safety_dataset.md", "benchmarks/safety_dataset.json"
 
 
 def run_default_sweep(out: Path, workers: int, cc_cut: str | None) -> list[float]:
@@ -70,7 +46,7 @@ def report(dataset: Path, load: list[float], note: str) -> tuple[dict, str]:
         by_speed[speed] = {"samples": len(chosen), "median_wall_s": float(np.median([r["wall_s"] for r in chosen])),
                            "max_wall_s": float(max(r["wall_s"] for r in chosen)),
                            "median_substeps": float(np.median([r["substeps"] for r in chosen]))}
-    result = {"machine": {**machine_info(), "date": date.today().isoformat()},
+    result = {"machine": dated_machine_info(),
               "dataset": str(dataset.relative_to(ROOT)) if dataset.is_relative_to(ROOT) else "a fresh folder (--run)",
               "runs": runs, "samples": len(rows), "ran": ran, "wall_s": wall_s,
               "samples_per_hour": ran / wall_s * 3600, "cut_core_s": float(cut_s.sum()),
@@ -110,13 +86,14 @@ def report(dataset: Path, load: list[float], note: str) -> tuple[dict, str]:
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = arguments(__doc__)
     parser.add_argument("--dataset", type=Path, default=ROOT / "assets" / "safety" / "force_dataset")
     parser.add_argument("--run", action="store_true", help="run the default sweep into a fresh folder and report it")
     parser.add_argument("--workers", type=int, default=2, help="with --run: cc-cut processes at a time")
     parser.add_argument("--cc-cut", help="with --run: the cc-cut binary")
     parser.add_argument("--note", default="", help="a sentence added to the report (e.g. what else ran)")
     args = parser.parse_args()
+    docs = docs_for(args)  # the smoke pass: the committed dataset's report, into its own folder
     load: list[float] = []
     with tempfile.TemporaryDirectory() as tmp:
         dataset = args.dataset.resolve()
@@ -124,9 +101,8 @@ def main() -> int:
             dataset = Path(tmp) / "force_dataset"
             load = run_default_sweep(dataset, args.workers, args.cc_cut)
         result, markdown = report(dataset, load, args.note)
-    (ROOT / "docs" / "benchmarks" / "safety_dataset.json").write_text(json.dumps(result, indent=1) + "\n")
-    (ROOT / "docs" / "benchmarks" / "safety_dataset.md").write_text(markdown)
-    print(f"{result['samples_per_hour']:.0f} samples/h; wrote docs/benchmarks/safety_dataset.md")
+    docs.publish(PAGE, markdown, RESULTS, result, __file__)
+    print(f"{result['samples_per_hour']:.0f} samples/h; wrote {docs.path(PAGE)}")
     return 0
 
 

@@ -12,30 +12,32 @@ air (the food's MPM asleep, the step nearly robot-only) and the oracle cutting a
 """
 from __future__ import annotations
 
-import argparse
-import json
 import sys
 import time
-from datetime import date
 from pathlib import Path
 
 import numpy as np
 from culinarycut import Client
 from culinarycut.launch import ServerProcess, server_binary
 
-from step_latency import machine_info  # bench/, this script's folder: the machine description every benchmark writes
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness import arguments, dated_machine_info, docs_for, interleaved, percentiles  # noqa: E402
+from bench.lib import quick  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
+PAGE, RESULTS = "benchmarks/safety_overhead.md", "benchmarks/safety_overhead.json"
 TARGET_SHARE = 0.02  # the limiter should cost under 2 % of a robot-only step
 FOOD = [{"food": "cucumber"}]
 # Small end-effector steps up and down in turn: the knife moves every step and stays far above the food.
 FREE_AIR_ACTIONS = (np.array([0, 0, 0.3, 0, 0, 0.0]), np.array([0, 0, -0.3, 0, 0, 0.0]))
 
 
-def food_scene(limiter: bool) -> dict:
+def food_scene(limiter: bool, tiny: bool = False) -> dict:
+    """The cucumber at draft with the limiter on or off; `tiny`: a coarse strawberry (the smoke pass)."""
     effects = {"mpm": True, "damage": True, "friction": True, "force_sensing": True, "safety_limiter": limiter}
-    return {"quality": "draft", "objects": FOOD, "effects": effects,
-            "task": {"instruction": "cut the cucumber in the middle"}}
+    scene = {"quality": "draft", "objects": FOOD, "effects": effects,
+             "task": {"instruction": "cut the cucumber in the middle"}}
+    return quick.food_scene(scene, coarse=True) if tiny else scene
 
 
 def free_air_times(client: Client, scene: dict | None, steps: int) -> tuple[list[float], list[float]]:
@@ -77,43 +79,41 @@ def cut_times(client: Client, scene: dict) -> tuple[list[float], list[float]]:
 
 
 def summary(times: list[float]) -> dict:
-    return {"p50_ms": float(np.median(times)), "p90_ms": float(np.percentile(times, 90)), "steps": len(times)}
+    return {**percentiles(times), "steps": len(times)}
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = arguments(__doc__)
     parser.add_argument("--rounds", type=int, default=5, help="alternating rounds of the free-air comparison")
     parser.add_argument("--steps", type=int, default=200, help="steps per round and setting")
     parser.add_argument("--cut-rounds", type=int, default=3, help="alternating oracle cuts per setting")
-    parser.add_argument("--out", default=str(ROOT / "docs" / "benchmarks"))
+    parser.add_argument("--out", type=Path, default=None, help="the folder of the page and JSON "
+                                                               "(default docs/benchmarks)")
     args = parser.parse_args()
-    settings = {"robot only": None, "food, limiter off": food_scene(False), "food, limiter on": food_scene(True)}
-    free = {name: [] for name in settings}
-    free_safety: list[float] = []
-    cut = {"limiter off": [], "limiter on": []}
-    cut_totals = {"limiter off": [], "limiter on": []}  # ms of Step round trips per cut
-    cut_safety: list[float] = []
-    round_medians = {name: [] for name in list(settings) + [f"cut, {n}" for n in cut]}
+    docs = docs_for(args, args.out)
+    if args.quick:  # one round of 3 steps, one cut of a coarse strawberry per setting
+        args.rounds, args.steps, args.cut_rounds = 1, 3, 1
+    settings = {"robot only": None, "food, limiter off": food_scene(False, args.quick),
+                "food, limiter on": food_scene(True, args.quick)}
+    cut_settings = {"limiter off": food_scene(False, args.quick), "limiter on": food_scene(True, args.quick)}
     server = ServerProcess(server_binary())
     try:
         with Client(server.address, timeout_s=600) as client:
-            for _ in range(args.rounds):
-                for name, scene in settings.items():
-                    times, safety = free_air_times(client, scene, args.steps)
-                    free[name] += times
-                    round_medians[name].append(float(np.median(times)))
-                    if name == "food, limiter on":
-                        free_safety += safety
-            for _ in range(args.cut_rounds):
-                for name, limiter in (("limiter off", False), ("limiter on", True)):
-                    times, safety = cut_times(client, food_scene(limiter))
-                    cut[name] += times
-                    cut_totals[name].append(float(np.sum(times)))
-                    round_medians[f"cut, {name}"].append(float(np.median(times)))
-                    if limiter:
-                        cut_safety += safety
+            free_runs = interleaved({name: (lambda s=scene: free_air_times(client, s, args.steps))
+                                     for name, scene in settings.items()}, args.rounds)
+            cut_runs = interleaved({name: (lambda s=scene: cut_times(client, s))
+                                    for name, scene in cut_settings.items()}, args.cut_rounds)
     finally:
         server.stop()
+    # Each setting's round trips (ms) over its runs, and the limiter's stage times with it on.
+    free = {name: [t for times, _ in runs for t in times] for name, runs in free_runs.items()}
+    free_safety = [s for _, safety in free_runs["food, limiter on"] for s in safety]
+    cut = {name: [t for times, _ in runs for t in times] for name, runs in cut_runs.items()}
+    cut_totals = {name: [float(np.sum(times)) for times, _ in runs] for name, runs in cut_runs.items()}  # ms per cut
+    cut_safety = [s for _, safety in cut_runs["limiter on"] for s in safety]
+    round_medians = {**{name: [float(np.median(times)) for times, _ in runs] for name, runs in free_runs.items()},
+                     **{f"cut, {name}": [float(np.median(times)) for times, _ in runs]
+                        for name, runs in cut_runs.items()}}
     robot_p50 = float(np.median(free["robot only"]))
     results = {
         "free_air": {name: summary(t) for name, t in free.items()},
@@ -130,9 +130,7 @@ def main() -> int:
     results["cut_total_ms"] = cut_totals
     results.update(share_of_robot_step_free_air=share_free, share_of_robot_step_cutting=share_cut,
                    ratio_on_off_free_air=ratio_free, ratio_on_off_cutting=ratio_cut)
-    machine = {**machine_info(), "date": date.today().isoformat()}
-    out = Path(args.out)
-    (out / "safety_overhead.json").write_text(json.dumps({"machine": machine, "results": results}, indent=1))
+    machine = dated_machine_info()
     verdict = "under" if max(share_free, share_cut) < TARGET_SHARE else "over"
     lines = ["# The safety limiter: cost per Step", "",
              "Generated by `bench/safety_overhead.py`: one local server, the Python client, draft MPM, 20 Hz "
@@ -163,7 +161,7 @@ def main() -> int:
               + "; ".join(f"{name} {', '.join(f'{m:.2f}' for m in ms)} ms" for name, ms in round_medians.items()
                           if not name.startswith("cut"))
               + "); the stage time is the limiter's own cost."]
-    (out / "safety_overhead.md").write_text("\n".join(lines) + "\n")
+    docs.publish(PAGE, "\n".join(lines) + "\n", RESULTS, {"machine": machine, "results": results}, __file__)
     print("\n".join(lines))
     return 0
 

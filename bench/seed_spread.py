@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
 """How far the accuracy study's errors move with the particle-sampling seed alone, and whether the settings it
-ranks differ by more than that. The study (bench/accuracy_cost.py) runs each setting once, at seed 0, and calls
-one setting as accurate as another when no error is higher by more than a fixed margin; this reruns the robot's
-slow cuts at the settings that decide the 5x target with other seeds (the same cut, the food's particles drawn
-again) and compares each setting with the previous standard preset seed by seed (paired: both see the same
-particles). Writes docs/benchmarks/seed_spread.md, .json and docs/images/seed_spread.png.
+ranks differ by more than that. The study (bench/accuracy_cost.py; its library is bench/lib/accuracy.py) runs
+each setting once, at seed 0, and calls one setting as accurate as another when no error is higher by more than
+a fixed margin; this reruns the robot's slow cuts at the settings that decide the 5x target with other seeds (the
+same cut, the food's particles drawn again) and compares each setting with the previous standard preset seed by
+seed (paired: both see the same particles). Writes docs/benchmarks/seed_spread.md, .json and docs/images/seed_spread.png.
 
     .venv/bin/python bench/seed_spread.py [--cc-cut build/tools/cc_cut/cc-cut] [--workers 2] [--runs DIR]
         [--seeds 5] [--whole-seeds 3]
@@ -13,22 +13,20 @@ Runs at seed 0 are the accuracy study's own (shared through --runs); every run i
 """
 from __future__ import annotations
 
-import argparse
-import json
 import sys
 import tempfile
 from concurrent.futures import ThreadPoolExecutor, as_completed
-from datetime import date
 from pathlib import Path
 
 import numpy as np
 
-from accuracy_cost import (PREVIOUS_STANDARD, QUANTITY_NAMES, REFERENCE, RESOLVED, SLOW_CASE,
-                           WHOLE_CASE, Setting, errors, slow_case, stored_run, stored_run_path, with_setting)
-from step_latency import machine_info
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness import arguments, cc_cut, docs_for, machine_info, missing, pyplot, save_figure, today  # noqa: E402
+from bench.lib.accuracy import (PREVIOUS_STANDARD, QUANTITY_NAMES, REFERENCE, RESOLVED, SLOW_CASE,  # noqa: E402
+                                WHOLE_CASE, Setting, errors, slow_case, stored_run, stored_run_path, with_setting)
 
-ROOT = Path(__file__).resolve().parents[1]
-RESULTS_JSON = ROOT / "docs" / "benchmarks" / "seed_spread.json"
+PAGE, RESULTS = "benchmarks/seed_spread.md", "benchmarks/seed_spread.json"
 # The settings that decide the 5x target on the slow cuts (docs/accuracy.md): the yardstick, the standard
 # preset's CFL 0.4 and 0.5, fewer particles per cell, and mass scaling. The whole cucumber costs 1-5 minutes a
 # run (x8 is left out).
@@ -128,11 +126,8 @@ def analyse(runs: dict) -> dict:
 
 
 def plot(stored: dict, path: Path) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     cases = list(stored["cases"])
-    fig, axes = plt.subplots(len(cases), len(ACCURACY_METRICS), figsize=(14, 3.6 * len(cases)), squeeze=False)
+    fig, axes = pyplot().subplots(len(cases), len(ACCURACY_METRICS), figsize=(14, 3.6 * len(cases)), squeeze=False)
     for axes_row, case in zip(axes, cases):
         rows = stored["cases"][case]["rows"]
         for ax, metric in zip(axes_row, ACCURACY_METRICS):
@@ -151,7 +146,7 @@ def plot(stored: dict, path: Path) -> None:
         axes_row[0].set_title(case, loc="left", fontsize=9)
     fig.suptitle("Each seed's error against the reference (dots) and their mean (bar); speed-up over CFL 0.2")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path)
 
 
 def _pm(summary: dict, scale: float = 100.0, unit: str = "") -> str:
@@ -268,30 +263,32 @@ def _short_swings(stored: dict) -> list[str]:
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--cc-cut", type=Path, default=ROOT / "build" / "tools" / "cc_cut" / "cc-cut")
+    parser = arguments(__doc__, render_only=True)
+    parser.add_argument("--cc-cut", type=Path, default=cc_cut())
     parser.add_argument("--workers", type=int, default=2, help="cc-cut runs at a time (one thread each)")
     parser.add_argument("--runs", type=Path, default=Path(tempfile.gettempdir()) / "culinarycut-accuracy-runs",
                         help="finished runs are kept here (shared with accuracy_cost.py); a rerun reuses them")
     parser.add_argument("--seeds", type=int, default=5, help="seeds of the 0.6-scale slow cut (about 90 s of runs each)")
     parser.add_argument("--whole-seeds", type=int, default=3, help="seeds of the whole cucumber (about 9 min each)")
-    parser.add_argument("--render-only", action="store_true", help="redraw the page from the stored JSON")
     args = parser.parse_args()
+    docs = docs_for(args)
+    if args.quick:
+        print("error: seed_spread has no smoke pass of its own (every run is a 0.05 m/s cut, 1.5-9 min): use "
+              "--render-only", file=sys.stderr)
+        return 2
     if not args.render_only:
-        if not args.cc_cut.exists():
-            print(f"error: no cc-cut at {args.cc_cut}; build it (scripts/build.sh) or pass --cc-cut", file=sys.stderr)
-            return 2
+        if code := missing(args.cc_cut, "--cc-cut"):
+            return code
         if min(args.seeds, args.whole_seeds) < 2:
             print("error: --seeds and --whole-seeds need at least 2 (a spread needs two runs)", file=sys.stderr)
             return 2
         runs = run_all(args.cc_cut, args.runs, args.workers, {SLOW_CASE: args.seeds, WHOLE_CASE: args.whole_seeds})
-        stored = {"machine": machine_info(), "date": date.today().isoformat(), "workers": args.workers,
-                  "cases": analyse(runs)}
-        RESULTS_JSON.write_text(json.dumps(stored, indent=1))
-    stored = json.loads(RESULTS_JSON.read_text())
-    plot(stored, ROOT / "docs" / "images" / "seed_spread.png")
-    (ROOT / "docs" / "benchmarks" / "seed_spread.md").write_text(markdown(stored))
-    print("wrote docs/benchmarks/seed_spread.md")
+        stored = {"machine": machine_info(), "date": today(), "workers": args.workers, "cases": analyse(runs)}
+        docs.write_json(RESULTS, stored, __file__)
+    stored = docs.stored(RESULTS)
+    plot(stored, docs.image("seed_spread.png"))
+    docs.write_page(PAGE, markdown(stored), __file__, RESULTS, stored)
+    print(f"wrote {docs.path(PAGE)}")
     return 0
 
 

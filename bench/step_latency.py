@@ -1,40 +1,27 @@
 #!/usr/bin/env python3
-"""Step round-trip latency of a robot-only session: p50/p90/p99 (ms) and steps/s, written as JSON."""
+"""Step round-trip latency of a robot-only session: p50/p90/p99 (ms) and steps/s, written as JSON.
+bench/robot_step_report.py runs it for the Python client's rows of docs/benchmarks/robot_step.md."""
 from __future__ import annotations
 
 import argparse
 import json
-import os
-import platform
 import sys
 import time
 from pathlib import Path
 
-import grpc
 import numpy as np
 from culinarycut import Client
 from culinarycut.errors import CulinaryCutError
 from culinarycut.launch import ServerProcess, server_binary
 
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness import machine_info, percentiles  # noqa: E402
+
 
 def robot_only_scene(control_hz: float) -> dict:
     """The default scene (robot and knife, no food) at a given control rate; physics stays at 500 Hz."""
     return {"robot": {"control_frequency_hz": control_hz, "physics_frequency_hz": 500.0}}
-
-
-def cpu_model() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown"
-
-
-def machine_info() -> dict:
-    return {"cpu_model": cpu_model(), "cores": os.cpu_count(), "platform": platform.platform(),
-            "python": platform.python_version(), "grpcio": grpc.__version__, "numpy": np.__version__}
 
 
 def measure(client: Client, steps: int, warmup: int, control_hz: float) -> dict:
@@ -56,13 +43,12 @@ def measure(client: Client, steps: int, warmup: int, control_hz: float) -> dict:
     finally:
         client.close_session(sid)
     ms = latency_ns * 1e-6
+    server = percentiles(server_ms, (50, 99))
     return {
         "steps": steps, "warmup": warmup, "control_hz": control_hz,
-        "p50_ms": float(np.percentile(ms, 50)), "p90_ms": float(np.percentile(ms, 90)),
-        "p99_ms": float(np.percentile(ms, 99)), "mean_ms": float(ms.mean()), "max_ms": float(ms.max()),
+        **percentiles(ms, (50, 90, 99)), "mean_ms": float(ms.mean()), "max_ms": float(ms.max()),
         "steps_per_s": steps / total_s,
-        "server_step_wall_p50_ms": float(np.percentile(server_ms, 50)),
-        "server_step_wall_p99_ms": float(np.percentile(server_ms, 99)),
+        "server_step_wall_p50_ms": server["p50_ms"], "server_step_wall_p99_ms": server["p99_ms"],
     }
 
 

@@ -8,21 +8,22 @@ docs/benchmarks/suite_throughput.{md,json}.
 """
 from __future__ import annotations
 
-import argparse
 import json
 import sqlite3
 import subprocess
 import sys
 import tempfile
 import time
-from datetime import date
 from pathlib import Path
 
 from culinarycut.launch import ServerProcess, server_binary
 
-from step_latency import machine_info  # bench/, this script's folder: the machine description every benchmark writes
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness import arguments, docs_for, machine_info, today  # noqa: E402
+from bench.lib import quick  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
+PAGE, RESULTS = "benchmarks/suite_throughput.md", "benchmarks/suite_throughput.json"
 # (label, suite, extra arguments): the smoke suite whole, and one trial of each cucumber task of
 # unseen-seeds (52 tasks: every style x state) as a sample of the big suite at draft quality.
 WORKLOADS = [("smoke", "smoke", []), ("unseen-seeds (cucumber, 1 trial per task)", "unseen-seeds",
@@ -57,20 +58,27 @@ def run_suite(suite: str, extra: list[str], servers: list[ServerProcess], worker
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = arguments(__doc__)
     parser.add_argument("--server-binary", default=str(server_binary()))
-    parser.add_argument("--out", default=str(ROOT / "docs" / "benchmarks"))
+    parser.add_argument("--out", type=Path, default=None, help="the folder of the page and JSON "
+                                                               "(default docs/benchmarks)")
     args = parser.parse_args()
+    docs = docs_for(args, args.out)
     results = []
     with tempfile.TemporaryDirectory() as scratch:
-        servers = [ServerProcess(args.server_binary, max_sessions=8, idle_timeout_s=600) for _ in range(max(n for n, _ in SCALING))]
+        # The smoke pass: one strawberry episode as the one-server scaling run (the workloads run the same code).
+        workloads = [] if args.quick else WORKLOADS
+        scaling = SCALING[:1] if args.quick else SCALING
+        smoke = str(quick.suite(Path(scratch))) if args.quick else "smoke"
+        servers = [ServerProcess(args.server_binary, max_sessions=8, idle_timeout_s=600)
+                   for _ in range(max(n for n, _ in scaling))]
         try:
-            for label, suite, extra in WORKLOADS:
-                result = run_suite(suite, extra, servers[:1], 2, Path(scratch) / f"{suite}-throughput")
+            for label, suite, extra in workloads:
+                result = run_suite(suite, extra, servers[:1], 2, Path(scratch) / f"{Path(suite).stem}-throughput")
                 results.append({"kind": "throughput", "label": label, **result})
                 print(json.dumps(results[-1]), flush=True)
-            for count, workers in SCALING:
-                result = run_suite("smoke", [], servers[:count], workers, Path(scratch) / f"smoke-{count}-{workers}")
+            for count, workers in scaling:
+                result = run_suite(smoke, [], servers[:count], workers, Path(scratch) / f"smoke-{count}-{workers}")
                 results.append({"kind": "scaling", "label": f"smoke, {count} server(s), {workers} worker(s)", **result})
                 print(json.dumps(results[-1]), flush=True)
         finally:
@@ -78,11 +86,9 @@ def main() -> int:
                 server.stop()
     info = machine_info()
     machine = {"cpu_count": info["cores"], "platform": info["platform"], "processor": info["cpu_model"],
-               "date": date.today().isoformat()}
-    out = Path(args.out)
-    (out / "suite_throughput.json").write_text(json.dumps({"machine": machine, "results": results}, indent=1))
-    (out / "suite_throughput.md").write_text(_markdown(machine, results))
-    print(f"wrote {out / 'suite_throughput.md'}")
+               "date": today()}  # the keys this page has always stored
+    docs.publish(PAGE, _markdown(machine, results), RESULTS, {"machine": machine, "results": results}, __file__)
+    print(f"wrote {docs.path(PAGE)}")
     return 0
 
 

@@ -5,22 +5,21 @@ at the standard preset and at the previous standard (CFL 0.2, 8 particles per ce
 target was set against (previous standard, 2 cm) is timed beside today's standard episode. One bench_wake_margin
 process per run, one at a time, in an interleaved order. Writes docs/benchmarks/wake_margin.md and .json.
 
-    .venv/bin/python bench/wake_margin_report.py [--bench build/bench/bench_wake_margin]
+    .venv/bin/python bench/wake_margin_report.py [--bench build/bench/bench_wake_margin] [--render-only]
 """
 from __future__ import annotations
 
-import argparse
 import json
 import subprocess
 import sys
-from datetime import date
 from pathlib import Path
 
-from accuracy_cost import standard_verdict  # bench/, this script's folder
-from step_latency import machine_info
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness import arguments, bench_binary, docs_for, machine_info, missing, spread, today  # noqa: E402
+from bench.lib.accuracy import standard_verdict  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
-OUT = ROOT / "docs" / "benchmarks"
+PAGE, RESULTS = "benchmarks/wake_margin.md", "benchmarks/wake_margin.json"
 # (label, bench arguments); interleaved so that a slow stretch of the machine does not land on one setting only.
 RUNS = [("previous standard, woken at 2 cm", ["standard", "2cm", "0.2", "8"]),
         ("standard, woken at 2.5 cells", ["standard", "cells"]),
@@ -34,29 +33,31 @@ TARGET_SPEEDUP = 5.0  # the accuracy study's target for today's standard episode
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--bench", type=Path, default=ROOT / "build" / "bench" / "bench_wake_margin")
+    parser = arguments(__doc__, render_only=True)
+    parser.add_argument("--bench", type=Path, default=bench_binary("bench_wake_margin"))
     args = parser.parse_args()
-    if not args.bench.exists():
-        print(f"error: no {args.bench}; build it (scripts/build.sh)", file=sys.stderr)
-        return 2
+    docs = docs_for(args)
+    if args.render_only or args.quick:  # no smaller case: each run is a whole episode at the standard preset
+        docs.render_stored(PAGE, RESULTS, markdown, __file__)
+        return 0
+    if code := missing(args.bench, "--bench"):
+        return code
     rows: dict[str, dict] = {}
     for label, bench_args in RUNS + REPEATED:
         print(f"{label} ...", flush=True)
         out = subprocess.run([str(args.bench), *bench_args], check=True, capture_output=True, text=True).stdout
         run = json.loads(out)
-        walls = rows[label]["wall_s_runs"] + [run["wall_s"]] if label in rows else [run["wall_s"]]
-        episode_walls = ([*rows[label]["episode_wall_s_runs"], run["episode_wall_s"]] if label in rows
-                         else [run["episode_wall_s"]])
-        rows[label] = {"label": label, **run, "wall_s": min(walls), "wall_s_runs": walls,
-                       "episode_wall_s": min(episode_walls), "episode_wall_s_runs": episode_walls}
+        walls = spread(rows[label]["wall_s_runs"] + [run["wall_s"]] if label in rows else [run["wall_s"]])
+        episode_walls = spread([*rows[label]["episode_wall_s_runs"], run["episode_wall_s"]] if label in rows
+                               else [run["episode_wall_s"]])
+        rows[label] = {"label": label, **run, "wall_s": walls["min"], "wall_s_runs": walls["runs"],
+                       "episode_wall_s": episode_walls["min"], "episode_wall_s_runs": episode_walls["runs"]}
         print(f"  {run['wall_s']:.0f} s until success, {run['episode_wall_s']:.0f} s in all, "
               f"{run['mpm_substeps']} MPM substeps until success", flush=True)
     rows = list(rows.values())
-    stored = {"machine": machine_info(), "date": date.today().isoformat(), "rows": rows}
-    (OUT / "wake_margin.json").write_text(json.dumps(stored, indent=1))
-    (OUT / "wake_margin.md").write_text(markdown(stored))
-    print(f"wrote {OUT / 'wake_margin.md'}")
+    stored = {"machine": machine_info(), "date": today(), "rows": rows}
+    docs.publish(PAGE, markdown(stored), RESULTS, stored, __file__)
+    print(f"wrote {docs.path(PAGE)}")
     return 0
 
 
