@@ -140,6 +140,9 @@ BENCHMARKS: tuple[Benchmark, ...] = (
               "hard cases: the food turned on the grid, E from 0.1 to 50 MPa, twice the toughness, sawing, a thin "
               "slice",
               "30 min (resumable)", ("cc-cut",), quick_does="one case at draft"),
+    Benchmark("step_rollback", "step_rollback_report", "benchmarks/step_rollback.md", "benchmarks/step_rollback.json",
+              "a cancellable Step's rollback while the food sleeps: lazy against the full state copy it replaced, "
+              "draft, standard and fine", "1 min", ("bench_step_rollback",), quick_does="draft, 3 rounds"),
     Benchmark("hertz_contact", "hertz_contact_report", "benchmarks/hertz_contact.md", "benchmarks/hertz_contact.json",
               "a plate pressing a sphere through the MPM solver against Hertz, at dx 4, 3 and 2 mm", "10 min",
               ("bench_hertz_contact",), quick_does="dx 8 mm", images=("images/hertz_contact.png",)),
