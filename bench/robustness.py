@@ -5,6 +5,7 @@ server; writes docs/robustness.md and docs/benchmarks/robustness.json.
 
     .venv/bin/python bench/robustness.py            # about 10 minutes on 2 cores; writes the docs
     .venv/bin/python bench/robustness.py --quick    # seconds; prints the results, writes nothing
+    .venv/bin/python bench/robustness.py --from-json docs/benchmarks/robustness.json   # the page again, no run
 
 Exits 1 when a check fails (a crash, a hang, an UNKNOWN status, a flood past the soft limit that
 leaves new clients unserved, a stop that is not prompt or exits with the wrong code). The flood past
@@ -555,13 +556,15 @@ def render(machine: dict, server: dict, results: dict, wall_s: float) -> str:
         "",
         f"{fuzz['requests']:,} requests to {fuzz['methods']} methods in {fuzz['wall_s']:.0f} s: "
         f"{'no crash' if fuzz['crash'] is None else '**a crash** at request ' + str(fuzz['crash']['index'])}, "
-        f"{len(fuzz['hangs'])} hangs (a `DEADLINE_EXCEEDED`), {len(fuzz['unknown'])} `UNKNOWN`; the slowest answer "
+        f"{len(fuzz['hangs'])} hangs (`DEADLINE_EXCEEDED` after {fuzz['deadline_s']:g} s), {len(fuzz['unknown'])} `UNKNOWN`; the slowest answer "
         f"took {max(fuzz['slowest_s'].values()) * 1000:.0f} ms and the longest message was "
         f"{fuzz['longest_message_chars']} characters; gRPC health afterwards: {fuzz['health_after']}. The server's "
         f"RSS went from {before['rss_mb']:.1f} MB to {after.get('rss_mb', float('nan')):.1f} MB (peak "
         f"{after.get('peak_rss_mb', float('nan')):.1f} MB; the requests open sessions nobody closes, up to "
         f"`--max-sessions` 8), its descriptors from {before['descriptors']} to {after.get('descriptors', '?')}, "
-        f"its threads from {before['threads']} to {after.get('threads', '?')}. Codes per method are in the JSON.", "",
+        f"its threads from {before['threads']} to {after.get('threads', '?')}. `INTERNAL` for random bytes is gRPC's own "
+        "answer, with an empty message, to a request it cannot decode, before the server's code runs (see "
+        "[protocol.md](protocol.md#errors)); codes per method are in the JSON.", "",
         "## Connection flood",
         "Every connection holds a descriptor. The server raises its soft descriptor limit to the hard one at",
         "start, closes a connection that has not finished its TLS/HTTP/2 handshake within 10 s or has carried",
@@ -613,8 +616,9 @@ def render(machine: dict, server: dict, results: dict, wall_s: float) -> str:
             "of one process) still passes. What is in place keeps the process away from that limit rather than surviving it: the",
             "soft limit raised to the hard one, silent connections closed after 10 s and idle ones after 10",
             "minutes. What a deployment needs on top: a hard limit well above the connections it expects",
-            "(`ulimit -Hn`; `LimitNOFILE=` under systemd; Docker's default is 1,048,576), a cap on connections",
-            "per client in front of the server (a proxy or the firewall) when it faces untrusted networks, and a",
+            "(`ulimit -Hn`; `LimitNOFILE=` under systemd; `--ulimit nofile=` or compose's `ulimits:` in a",
+            "container), a cap on connections per client in front of the server (a proxy or the firewall) when",
+            "it faces untrusted networks, and a",
             "supervisor whose health check makes a fresh connection (e.g. `culinarycut info --address ...`) and",
             "restarts the server when it fails. A gRPC with the fix, or a server-side cap on accepted connections",
             "below the hard limit, would remove the failure itself; neither is in this build.",
@@ -633,8 +637,11 @@ def render(machine: dict, server: dict, results: dict, wall_s: float) -> str:
     ]
     for label, phase in (("robot-only", robot), ("cutting", cutting)):
         if "min_mb" in phase:
+            # A trend over a handful of samples is noise: shown from 10 samples on.
+            sampled = sum(episode >= phase["warmup_episodes"] for episode, _ in phase["samples"])
+            slope = f"{phase['slope_kb_per_episode']:.2f}" if sampled >= 10 else "too few episodes for a trend"
             lines.append(f"| {label} (after {phase['warmup_episodes']} warm-up) | {phase['episodes']:,} | "
-                         f"{phase['min_mb']:.1f} - {phase['max_mb']:.1f} | {phase['slope_kb_per_episode']:.2f} |")
+                         f"{phase['min_mb']:.1f} - {phase['max_mb']:.1f} | {slope} |")
     lines += [
         "",
         f"The server's descriptors went from {soaked['descriptors']['before']} to {soaked['descriptors']['after']} "
@@ -646,8 +653,8 @@ def render(machine: dict, server: dict, results: dict, wall_s: float) -> str:
         "(`UNAVAILABLE`: the server is shutting down, nothing applied); other calls still running after 1 s",
         "are cancelled; the server exits 0 within 2 s, else exits 1 at 2 s without waiting further. A second",
         "signal before the clean exit ends exits at once, code 1, the log saying `second stop signal`. Exit",
-        f"times from the signal to the process's exit as its parent sees it, {len(stops['idle']['runs'])} run(s) "
-        "each:", "",
+        f"times from the signal to the process's exit as its parent sees it, {len(stops['idle']['runs'])} "
+        f"run{'s' if len(stops['idle']['runs']) > 1 else ''} each:", "",
         "| case | exit codes | after the first signal: median, max (s) | after the second (s) |",
         "|---|---|---|---|",
     ]
@@ -689,7 +696,14 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="a seconds-long run that prints and writes nothing")
     parser.add_argument("--out", default=str(ROOT / "docs"), help="where robustness.md and benchmarks/ go")
+    parser.add_argument("--from-json", metavar="JSON", help="measure nothing: write the page again from a saved "
+                        "run's robustness.json (after editing the prose here)")
     args = parser.parse_args()
+    if args.from_json:
+        saved = json.loads(Path(args.from_json).read_text())
+        (Path(args.out) / "robustness.md").write_text(
+            render(saved["machine"], saved["server"], saved["results"], saved["wall_s"]))
+        return 0
     sizes = QUICK if args.quick else FULL
     machine = machine_info()
     with ServerProcess(server_binary(), max_sessions=1) as probe, Client(probe.address) as client:
