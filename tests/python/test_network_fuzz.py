@@ -1,6 +1,7 @@
 """Network fuzz: a bounded run of random requests to every RPC of both services (random bytes, and
 messages with random values in random fields); the server must answer each with a status (never
-crash or hang) and still report SERVING on gRPC health afterwards."""
+crash or hang) and still report SERVING on gRPC health afterwards. The requests come from
+culinarycut.wire_fuzz, which bench/robustness.py uses too."""
 from __future__ import annotations
 
 import random
@@ -8,67 +9,12 @@ import time
 
 import grpc
 import pytest
-from google.protobuf import descriptor, message_factory
 
 from culinarycut.launch import ServerProcess, server_binary
-from culinarycut.v1 import simulator_pb2, task_pb2
+from culinarycut.wire_fuzz import all_methods, random_request
 
-SERVICES = [simulator_pb2.DESCRIPTOR.services_by_name["Simulator"], task_pb2.DESCRIPTOR.services_by_name["Tasks"]]
 REQUESTS = 1500           # in all; each gets a 10 s deadline
 SEED = 20261124           # a fixed seed: a failure replays
-INTERESTING_NUMBERS = [0, -1, 1, 1e300, -1e300, float("nan"), float("inf"), 2**63 - 1, 2**64 - 1, 1e-300, 0.5]
-
-
-def random_value(rng: random.Random, field: descriptor.FieldDescriptor):
-    kind = field.type
-    if kind in (field.TYPE_DOUBLE, field.TYPE_FLOAT):
-        return rng.choice(INTERESTING_NUMBERS + [rng.uniform(-10, 10)])
-    if kind in (field.TYPE_INT32, field.TYPE_SINT32, field.TYPE_SFIXED32):
-        return rng.randint(-2**31, 2**31 - 1)
-    if kind in (field.TYPE_INT64, field.TYPE_SINT64, field.TYPE_SFIXED64):
-        return rng.randint(-2**63, 2**63 - 1)
-    if kind in (field.TYPE_UINT32, field.TYPE_FIXED32):
-        return rng.choice([0, 1, 3, 2**32 - 1, rng.randint(0, 2**32 - 1)])
-    if kind in (field.TYPE_UINT64, field.TYPE_FIXED64):
-        return rng.choice([0, 1, 2**64 - 1, rng.randint(0, 2**64 - 1)])
-    if kind == field.TYPE_BOOL:
-        return rng.random() < 0.5
-    if kind == field.TYPE_STRING:
-        return rng.choice(["", "cucumber", "pd_ee_delta_pose", "saw", "\x00", "x" * rng.randint(0, 5000),
-                           "".join(chr(rng.randint(1, 0x2FF)) for _ in range(rng.randint(0, 40)))])
-    if kind == field.TYPE_BYTES:
-        return rng.randbytes(rng.randint(0, 2000))
-    if kind == field.TYPE_ENUM:
-        return rng.choice([v.number for v in field.enum_type.values])
-    raise AssertionError(kind)
-
-
-def message_class(message_descriptor):
-    """The generated class of a message (protobuf >= 4.22 has GetMessageClass; Debian 12's 4.21 GetPrototype)."""
-    if hasattr(message_factory, "GetMessageClass"):
-        return message_factory.GetMessageClass(message_descriptor)
-    return message_factory.MessageFactory().GetPrototype(message_descriptor)
-
-
-def fill(rng: random.Random, message, depth: int = 0) -> None:
-    for field in message.DESCRIPTOR.fields:
-        if rng.random() < 0.5:
-            continue
-        repeated = field.label == field.LABEL_REPEATED
-        if field.type == field.TYPE_MESSAGE:
-            if field.message_type.GetOptions().map_entry:
-                continue
-            if depth > 3:
-                continue
-            if repeated:
-                for _ in range(rng.randint(0, 3)):
-                    fill(rng, getattr(message, field.name).add(), depth + 1)
-            else:
-                fill(rng, getattr(message, field.name), depth + 1)
-        elif repeated:
-            getattr(message, field.name).extend(random_value(rng, field) for _ in range(rng.randint(0, 12)))
-        else:
-            setattr(message, field.name, random_value(rng, field))
 
 
 @pytest.fixture
@@ -81,18 +27,12 @@ def server():
 def test_random_requests_never_take_the_server_down(server):
     rng = random.Random(SEED)
     channel = grpc.insecure_channel(server.address)
-    methods = [(f"/{service.full_name}/{method.name}", method) for service in SERVICES for method in service.methods]
+    methods = all_methods()
     codes: dict[str, int] = {}
     unnamed: list[str] = []  # INVALID_ARGUMENT replies that do not name their field
     started = time.monotonic()
     for _ in range(REQUESTS):
-        path, method = rng.choice(methods)
-        if rng.random() < 0.3:
-            payload = rng.randbytes(rng.randint(0, 300))  # often not even a valid message
-        else:
-            request = message_class(method.input_type)()
-            fill(rng, request)
-            payload = request.SerializeToString()
+        path, _, payload = random_request(rng, methods)
         call = channel.unary_unary(path, request_serializer=None, response_deserializer=None)
         try:
             call(payload, timeout=10)
