@@ -140,6 +140,11 @@ BENCHMARKS: tuple[Benchmark, ...] = (
               "hard cases: the food turned on the grid, E from 0.1 to 50 MPa, twice the toughness, sawing, a thin "
               "slice",
               "30 min (resumable)", ("cc-cut",), quick_does="one case at draft"),
+    Benchmark("robustness", "robustness", "robustness.md", "benchmarks/robustness.json",
+              "the server attacked from outside: network fuzz, connection floods at the soft and hard descriptor "
+              "limits and recovery, stop signals' exit times, a soak's memory", "10 min", ("server",),
+              quick_does="a few hundred fuzz requests, a small flood, one stop of each kind, a short soak",
+              folder_option="--out"),
     Benchmark("step_rollback", "step_rollback_report", "benchmarks/step_rollback.md", "benchmarks/step_rollback.json",
               "a cancellable Step's rollback while the food sleeps: lazy against the full state copy it replaced, "
               "draft, standard and fine", "1 min", ("bench_step_rollback",), quick_does="draft, 3 rounds"),

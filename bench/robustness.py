@@ -694,14 +694,15 @@ def _log_message(line: str) -> str:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="a seconds-long run that prints and writes nothing")
-    parser.add_argument("--out", default=str(ROOT / "docs"), help="where robustness.md and benchmarks/ go")
+    parser.add_argument("--quick", action="store_true",
+                        help="a seconds-long run that prints its page (and writes it only under an --out given)")
+    parser.add_argument("--out", help="where robustness.md and benchmarks/ go (default docs/)")
     parser.add_argument("--from-json", metavar="JSON", help="measure nothing: write the page again from a saved "
                         "run's robustness.json (after editing the prose here)")
     args = parser.parse_args()
     if args.from_json:
         saved = json.loads(Path(args.from_json).read_text())
-        (Path(args.out) / "robustness.md").write_text(
+        (Path(args.out or ROOT / "docs") / "robustness.md").write_text(
             render(saved["machine"], saved["server"], saved["results"], saved["wall_s"]))
         return 0
     sizes = QUICK if args.quick else FULL
@@ -726,10 +727,10 @@ def main() -> int:
               "soak": results["soak"]["ok"],
               **{f"stop_{name}": entry["ok"] for name, entry in results["stop_signals"].items()}}
     page = render(machine, server, results, wall_s)
-    if args.quick:
+    if args.quick and not args.out:  # a smoke pass never writes into docs/
         print(page)
     else:
-        out = Path(args.out)
+        out = Path(args.out or ROOT / "docs")
         (out / "benchmarks").mkdir(parents=True, exist_ok=True)
         (out / "benchmarks" / "robustness.json").write_text(json.dumps(
             {"machine": machine, "server": server, "sizes": sizes, "checks": checks, "results": results,
