@@ -59,6 +59,15 @@ int main(int argc, char** argv) {
   app.add_option("--max-handler-threads", options.max_handler_threads, "gRPC threads serving calls at once")
       ->capture_default_str()
       ->check(CLI::Range(4, 4096));
+  app.add_option("--step-cores", options.step_cores,
+                 "cores the Steps running at once share (0: every core of the machine)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 4096));
+  app.add_option("--step-threads", options.step_threads,
+                 "shared: each Step's MPM uses cores / Steps running at once (at least 1); model: each uses the "
+                 "threads its food chose, however many run (oversubscribes a busy machine)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"shared", "model"}));
   app.add_option("--tls-cert", options.access.tls_cert_file, "PEM certificate chain: serve over TLS");
   app.add_option("--tls-key", options.access.tls_key_file, "PEM private key of --tls-cert");
   app.add_option("--tls-client-ca", options.access.tls_client_ca_file,

@@ -19,6 +19,8 @@ struct ServerOptions {
   std::string snapshot_key_file;                     // empty: a random key, snapshots stay with this process
   std::uint64_t memory_budget_mb = 0;                // all sessions together; 0: 3/4 of the machine's memory
   std::uint32_t max_handler_threads = 64;            // gRPC threads serving calls at once
+  std::uint32_t step_cores = 0;                      // cores the Steps running at once share; 0: the machine's
+  std::string step_threads = "shared";               // shared: cores / Steps running; model: each its food's
   AccessOptions access;                              // TLS and bearer tokens; none by default
   // Off loopback the server needs TLS and authentication (tokens or client certificates) unless
   // this is set, and then says loudly that anyone who reaches the port controls every session.

@@ -111,9 +111,13 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   renderer_ = std::make_unique<SharedRenderer>(render_options);
   SafetyModelSource safety_model = LoadSafetyModel(
       options.safety_model_path.empty() ? safety::DefaultForceModelPath() : options.safety_model_path);
+  if (options.step_threads != "shared" && options.step_threads != "model") {
+    throw std::runtime_error("--step-threads must be shared or model, not '" + options.step_threads + "'");
+  }
+  cpu_share_ = std::make_unique<CpuShare>(static_cast<int>(options.step_cores), options.step_threads == "shared");
   service_ = std::make_unique<SimulatorService>(std::move(robot), sessions_.get(), telemetry_.get(), renderer_.get(),
-                                                SnapshotSeal(options.snapshot_key_file), options.max_handler_threads,
-                                                std::move(safety_model));
+                                                cpu_share_.get(), SnapshotSeal(options.snapshot_key_file),
+                                                options.max_handler_threads, std::move(safety_model));
   task_service_ = std::make_unique<TaskService>(sessions_.get());
 
   grpc::EnableDefaultHealthCheckService(true);

@@ -8,6 +8,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include "server/server_options.h"
+#include "server/cpu_share.h"
 #include "server/session_manager.h"
 #include "server/shared_renderer.h"
 #include "server/simulator_service.h"
@@ -36,6 +37,7 @@ class SimulationServer {
   std::unique_ptr<TelemetryPublisher> telemetry_;
   std::unique_ptr<SharedRenderer> renderer_;
   std::unique_ptr<SessionManager> sessions_;
+  std::unique_ptr<CpuShare> cpu_share_;
   std::unique_ptr<SimulatorService> service_;
   std::unique_ptr<TaskService> task_service_;
   std::unique_ptr<grpc::Server> server_;

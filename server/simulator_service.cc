@@ -19,9 +19,10 @@
 
 namespace culinarycut::server {
 SimulatorService::SimulatorService(RobotDescription robot, SessionManager* sessions, TelemetryPublisher* telemetry,
-                                   SharedRenderer* renderer, SnapshotSeal seal, std::uint32_t max_handler_threads,
-                                   SafetyModelSource safety_model)
+                                   SharedRenderer* renderer, CpuShare* cpu_share, SnapshotSeal seal,
+                                   std::uint32_t max_handler_threads, SafetyModelSource safety_model)
     : robot_(std::move(robot)),
+      cpu_share_(cpu_share),
       sessions_(sessions),
       telemetry_(telemetry),
       renderer_(renderer),
@@ -66,6 +67,8 @@ grpc::Status SimulatorService::GetServerInfo(grpc::ServerContext* context, const
   limits->set_max_food_particles(kMaxFoodParticles);
   limits->set_max_mpm_substeps_per_step(kMaxMpmSubstepsPerControlStep);
   limits->set_max_camera_pixels(kMaxCameraPixelsPerSession);
+  limits->set_step_cores(static_cast<std::uint32_t>(cpu_share_->cores()));
+  limits->set_step_threads(cpu_share_->shared() ? "shared" : "model");
   for (const std::string& name : QualityPresetNames()) {
     const MpmResolution resolution = ResolveMpmResolution(name, std::nullopt, {});
     v1::QualityPreset* preset = info->add_quality_presets();
@@ -149,8 +152,10 @@ grpc::Status SimulatorService::Step(grpc::ServerContext* context, const v1::Step
     };
     if (abandoned()) return NotApplied(*context);
     StepResult result;
+    const CpuShare::Seat seat(cpu_share_);
     try {
-      result = culinarycut::Step(*session->model, &session->state, action, abandoned);
+      result = culinarycut::Step(*session->model, &session->state, action, abandoned,
+                                 [&seat] { return seat.Threads(); });
     } catch (const std::exception& error) {
       // The engine stopped half-way: the state is no longer one a simulation produced.
       session->broken_reason = std::string("Step failed at frame ") + std::to_string(session->state.frame_id) +

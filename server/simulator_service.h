@@ -12,6 +12,7 @@
 #include "server/snapshot_seal.h"
 #include "server/telemetry_publisher.h"
 #include "sim/safety/limiter.h"
+#include "server/cpu_share.h"
 #include "sim/robot/robot_description.h"
 
 namespace culinarycut::server {
@@ -20,9 +21,10 @@ class SimulatorService final : public v1::Simulator::Service {
  public:
   // `telemetry` may be null (telemetry off); `renderer` starts only when a scene declares cameras;
   // `safety_model` without a model refuses scenes with the safety limiter (FAILED_PRECONDITION).
+  // `cpu_share` divides the cores among the Steps running at once.
   SimulatorService(RobotDescription robot, SessionManager* sessions, TelemetryPublisher* telemetry,
-                   SharedRenderer* renderer, SnapshotSeal seal, std::uint32_t max_handler_threads,
-                   SafetyModelSource safety_model);
+                   SharedRenderer* renderer, CpuShare* cpu_share, SnapshotSeal seal,
+                   std::uint32_t max_handler_threads, SafetyModelSource safety_model);
 
   grpc::Status GetServerInfo(grpc::ServerContext*, const v1::GetServerInfoRequest*, v1::ServerInfo*) override;
   grpc::Status CreateSession(grpc::ServerContext*, const v1::CreateSessionRequest*, v1::CreateSessionResponse*) override;
@@ -43,6 +45,7 @@ class SimulatorService final : public v1::Simulator::Service {
                        const safety::LimiterReport* step_report = nullptr);
 
   const RobotDescription robot_;
+  CpuShare* cpu_share_;
   SessionManager* sessions_;
   TelemetryPublisher* telemetry_;
   SharedRenderer* renderer_;

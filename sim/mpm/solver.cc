@@ -116,6 +116,11 @@ void Solver<Real>::RestoreSubstepsTaken(std::uint64_t count) {
 }
 
 template <typename Real>
+int Solver<Real>::team_size() const {
+  return thread_limit_ > 0 ? std::min(config().threads, thread_limit_) : config().threads;
+}
+
+template <typename Real>
 void Solver<Real>::RestoreCutProgress(const CutProgress& progress) {
   if (progress.cuts_made > kMaxRecordedCuts || progress.current >= kMaxRecordedCuts ||
       progress.current > progress.cuts_made) {
@@ -299,7 +304,7 @@ SubstepDiagnostics Solver<Real>::Substep(double dt_s) {
   // One parallel region for the whole substep (one fork and join).
   // No smaller team for few particles: the results are the same bits on any team, and the tests'
   // one-against-two-threads check (about 2000 particles) must run a real team of two.
-  const int team = config().threads;
+  const int team = team_size();
   PrepareWorkspace(team);
   SubstepShared shared;
   ContactState contact;

@@ -110,6 +110,12 @@ class Solver {
   void SetTable(double height_m);
   const KnifeSdf* knife() const { return knife_.get(); }
 
+  // At most this many threads for the next substeps (the machine shared with other work); the
+  // results are the same bits on any team, so this never changes what is simulated. 0: no limit.
+  void SetThreadLimit(int threads) { thread_limit_ = threads; }
+  // The team the next substep runs: the model's threads, within the limit.
+  int team_size() const;
+
   // The CFL-limited time step of its model (s).
   double StableTimestep() const { return mpm::StableTimestep(*model_); }
 
@@ -178,6 +184,7 @@ class Solver {
   std::unique_ptr<FrozenLoad> frozen_;
   std::size_t active_count_ = 0;  // particles [0, active_count_) are integrated
   CutProgress cut_progress_;
+  int thread_limit_ = 0;  // SetThreadLimit; 0: the model's threads
 };
 
 // Throws std::invalid_argument naming the field at fault.

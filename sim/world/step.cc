@@ -116,7 +116,8 @@ void AdvanceClock(const Model& model, State* state, StepResult* result) {
 
 }  // namespace
 
-StepResult Step(const Model& model, State* state, const Action& action, const CancelCheck& cancelled) {
+StepResult Step(const Model& model, State* state, const Action& action, const CancelCheck& cancelled,
+                const ThreadLimit& thread_limit) {
   const auto start = std::chrono::steady_clock::now();
   StepResult result;
   // The state before the step, to put back if the step is cancelled half-way (the food's body saved
@@ -165,6 +166,7 @@ StepResult Step(const Model& model, State* state, const Action& action, const Ca
     }
     if (!food) continue;
     StageClock clock(&result.timings, Stage::kMpm);
+    if (thread_limit) food->solver->SetThreadLimit(thread_limit());
     const Eigen::Isometry3d tcp_end = TcpInWorld(model, state->physics->JointPositions());
     BookCouplingWork(felt_force_n, tcp_start.linear(), tcp_end.translation() - tcp_start.translation(),
                      &food->coupling_absorbed_j);

@@ -45,11 +45,16 @@ struct StepResult {
 // Asked between physics substeps and between MPM substeps; returning true stops the step.
 using CancelCheck = std::function<bool()>;
 
+// Asked before each physics step: the most threads the food's MPM may use now (0: its model's).
+using ThreadLimit = std::function<int()>;
+
 // Preconditions: state has been reset and ValidateAction(model, action) found nothing.
 // With a cancel check, a step it stops leaves the state exactly as before the call
 // (StepResult::cancelled; the state is copied first, which only cancellable steps pay for).
 // Throws std::runtime_error when the food's MPM state runs away (NaN positions, a grid blown up);
 // the state is then half-stepped and must be reset or restored before it is stepped again.
-StepResult Step(const Model& model, State* state, const Action& action, const CancelCheck& cancelled = {});
+// `thread_limit` shares the machine with other work; it never changes what is simulated.
+StepResult Step(const Model& model, State* state, const Action& action, const CancelCheck& cancelled = {},
+                const ThreadLimit& thread_limit = {});
 
 }  // namespace culinarycut
