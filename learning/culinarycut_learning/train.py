@@ -161,7 +161,9 @@ def train(data: Path, out: Path, config: TrainConfig, device: str = "cpu", progr
             "torch": torch.__version__}
     kill_at = int(os.environ.get(KILL_AT_STEP_ENV, "0") or 0)
     bar = progress_bar(config.steps, start, progress, config.log_every)
-    loss_value = float("nan")
+    loss_value = float(resumed["loss"]) if resumed is not None else float("nan")
+    if start >= config.steps:
+        log(f"{out} is trained: {start} of {config.steps} steps")
     model.train()
     try:
         for step in range(start + 1, config.steps + 1):
