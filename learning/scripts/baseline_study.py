@@ -24,6 +24,7 @@ import datetime
 import json
 import os
 import platform
+import socket
 import sqlite3
 import subprocess
 import sys
@@ -95,9 +96,23 @@ def export(study: Study, dataset: Path, out: Path) -> None:
     marker.write_text(json.dumps({"kept": kept}) + "\n")
 
 
-def serve(checkpoint: Path, device: str) -> tuple[subprocess.Popen, str]:
+def policy_port(study: Study, wanted: int | None) -> int:
+    """The policy server's port: the runner's run folders record the policy's url, so a resumed study must
+    serve on the port of its first run (chosen free then, or --port)."""
+    if wanted:
+        study.state["port"] = wanted
+    elif not study.state.get("port"):
+        with socket.socket() as probe:
+            probe.bind(("127.0.0.1", 0))
+            study.state["port"] = probe.getsockname()[1]
+    study.save()
+    return int(study.state["port"])
+
+
+def serve(checkpoint: Path, device: str, port: int) -> tuple[subprocess.Popen, str]:
     process = subprocess.Popen([sys.executable, "-m", "culinarycut_learning", "serve", "--checkpoint", str(checkpoint),
-                                "--port", "0", "--device", device], stdout=subprocess.PIPE, text=True, cwd=CHECKOUT)
+                                "--port", str(port), "--device", device], stdout=subprocess.PIPE, text=True,
+                               cwd=CHECKOUT)
     first = process.stdout.readline()
     if not first.startswith("listening on "):
         process.kill()
@@ -180,7 +195,9 @@ def write_report(study: Study, args, results: dict, docs: Path) -> None:
                          f"{100 * r['ci95'][0]:.0f} % - {100 * r['ci95'][1]:.0f} % | {r['errors']} |")
     lines += ["", "Wall time per stage (s, accumulated over resumed invocations):", "",
               "| stage | wall (s) |", "|---|---|"]
-    lines += [f"| {k} | {v:.1f} |" for k, v in report["stages_wall_s"].items()]
+    order = {"generate": 0, "export": 1, "train": 2}
+    stages = sorted(report["stages_wall_s"].items(), key=lambda item: (order.get(item[0], 3), item[0]))
+    lines += [f"| {k} | {v:.1f} |" for k, v in stages]
     (docs / "baselines.md").write_text("\n".join(lines) + "\n")
     log(f"wrote {docs / 'baselines.md'} and baselines.json")
 
@@ -205,6 +222,7 @@ def main(argv=None) -> int:
     parser.add_argument("--floor", default="random", help="comma list of built-in policies run beside it ('' for none)")
     parser.add_argument("--docs", type=Path, default=CHECKOUT / "docs" / "benchmarks",
                         help="where baselines.md and baselines.json go")
+    parser.add_argument("--port", type=int, help="the policy server's port (default: a free one, kept for resuming)")
     parser.add_argument("--note", default="", help="a sentence for the report (e.g. that this is a tiny run)")
     args = parser.parse_args(argv)
     options = {"foods": args.foods.split(","), "styles": args.styles.split(","), "states": args.states.split(","),
@@ -226,7 +244,7 @@ def main(argv=None) -> int:
     study.stage("train", ["-m", "culinarycut_learning", "train", "--data", root / "export", "--out", root / "run",
                           "--steps", args.steps, "--batch-size", args.batch_size, "--image-size", args.image_size,
                           "--seed", args.seed, "--device", args.device])
-    process, url = serve(root / "run", args.device)
+    process, url = serve(root / "run", args.device, policy_port(study, args.port))
     results: dict[str, dict] = {}
     try:
         for suite in options["suites"]:
