@@ -4,8 +4,14 @@ observation, the training targets executed by the adapter's defaults reach the r
 the tokenizer reads numbers as values ("0.3", "30%", "three tenths" alike). No server, no torch training."""
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
+
+# learning/ importable where scripts/install_deps.sh has not installed it (it installs it editable, from here)
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "learning"))
 
 from culinarycut.datasets.object_frame import quat_to_matrix
 from culinarycut.geometry import quat_from_axis_angle, quat_mul
