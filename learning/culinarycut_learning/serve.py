@@ -24,7 +24,7 @@ import torch
 from culinarycut_learning.checkpoint import checkpoint_path, load_checkpoint, policy_from_checkpoint
 from culinarycut_learning.features import (ADAPTER_IMAGE_SIZE, compress_wrench, model_image, served_actions,
                                            state_from_request)
-from culinarycut_learning.train import prompt_arrays
+from culinarycut_learning.train import prompt_arrays, resolve_device
 
 IMAGE_KEYS = ("observation/image", "observation/wrist_image")   # front, wrist: data.CAMERAS
 WRENCH_KEY = "observation/wrist_wrench"
@@ -37,7 +37,7 @@ class ServedPolicy:
 
     def __init__(self, checkpoint: Path, device: str = "cpu", threads: int = 1):
         torch.set_num_threads(threads)
-        self.device = torch.device(device)
+        self.device = resolve_device(device)
         payload = load_checkpoint(checkpoint)
         self.model, self.tokenizer, self.config = policy_from_checkpoint(payload)
         self.model.to(self.device)
