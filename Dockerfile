@@ -2,7 +2,8 @@
 #   build   compilers, -dev packages and the sources; builds the server and the Python client
 #   server  the server binary, its assets and only the shared libraries it loads (no compilers); non-root
 #   client  the Python packages (culinarycut with every extra its commands import: data's h5py, safety
-#           fit's scipy; the policy adapters) and their virtualenv; non-root
+#           fit's scipy; the policy adapters; the learned policy with Debian's CPU torch) and their
+#           virtualenv; non-root
 FROM debian:bookworm AS build
 # The commit the image is built from, which GetServerInfo reports as the build id (the benchmark runner
 # refuses to mix builds, and every image reporting "unknown" would defeat that). .git stays out of the
@@ -49,12 +50,14 @@ CMD ["--listen", "0.0.0.0:50051", "--tls-cert", "/run/secrets/server.pem", "--tl
 FROM debian:bookworm-slim AS client
 RUN apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
       python3 python3-grpcio python3-protobuf python3-numpy python3-zmq python3-opencv python3-jsonschema \
-      python3-matplotlib python3-pil python3-h5py python3-scipy \
+      python3-matplotlib python3-pil python3-h5py python3-scipy python3-torch python3-torchvision \
     && rm -rf /var/lib/apt/lists/* \
     && useradd --create-home --shell /bin/bash culinarycut
 COPY --from=build /opt/culinarycut/.venv /opt/culinarycut/.venv
 COPY --from=build /opt/culinarycut/client/python /opt/culinarycut/client/python
 COPY --from=build /opt/culinarycut/policies /opt/culinarycut/policies
+COPY --from=build /opt/culinarycut/learning /opt/culinarycut/learning
+COPY --from=build /opt/culinarycut/assets/language /opt/culinarycut/assets/language
 COPY --from=build /opt/culinarycut/benchmarks /opt/culinarycut/benchmarks
 ENV PATH=/opt/culinarycut/.venv/bin:$PATH CULINARYCUT_BENCHMARKS=/opt/culinarycut/benchmarks
 USER culinarycut

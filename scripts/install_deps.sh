@@ -25,6 +25,8 @@ PACKAGES=(
   python3-h5py
   # the safety module's force-model fit (scipy.optimize.nnls)
   python3-scipy
+  # the learned policy (learning/): PyTorch and torchvision, CPU builds; no weights are downloaded
+  python3-torch python3-torchvision
 )
 # Only the test suite needs these (scripts/test.sh passes --tests): the HTML benchmark report is
 # checked in a real headless browser, the fuzz targets build with clang, libFuzzer and sanitizers, and
@@ -55,6 +57,9 @@ install_python_env() {
   # The policy adapters (policies/), editable too: registers openvla, openvla-oft, octo, rdt, openpi for `--policy`.
   "$venv/bin/python" -m pip install --quiet --disable-pip-version-check --no-build-isolation --no-index \
     -e "$root/policies"
+  # The learned policy (learning/), editable too: `python -m culinarycut_learning train|serve` (Debian's torch).
+  "$venv/bin/python" -m pip install --quiet --disable-pip-version-check --no-build-isolation --no-index \
+    -e "$root/learning"
 }
 
 missing=()

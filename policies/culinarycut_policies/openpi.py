@@ -18,7 +18,12 @@ input transform is in src/openpi/policies/):
 
 How the Panda with its knife fills each layout (the joints, the grippers it does not have, ALOHA's
 second arm) is decided in openpi_layouts.py. openpi servers normalise and un-normalise with the
-statistics stored in their own checkpoint, so this adapter takes none."""
+statistics stored in their own checkpoint, so this adapter takes none.
+
+A server may ask for observations beyond its layout's keys in its metadata, `extra_observations` (a list
+of keys of EXTRA_OBSERVATIONS): they are added after the layout's keys. openpi's own servers ask for none,
+so their requests stay exactly the example's; CulinaryCut's trained policy (culinarycut_learning) asks for
+the wrist force, which openpi's layouts do not carry."""
 from __future__ import annotations
 
 import re
@@ -45,6 +50,12 @@ REPLAN_STEPS = {"libero": 5, "droid": 8, "aloha": 25}   # replan_steps, open_loo
 MODEL_RATE_HZ = {"libero": None, "droid": 15.0, "aloha": 50.0}  # DROID_CONTROL_FREQUENCY, Runtime(max_hz=50)
 ACTION_DIMS = {"droid": 8, "aloha": 14}  # DroidOutputs, AlohaOutputs; LIBERO: at least the 6 pose deltas
 LIBERO_ONLY_OPTIONS = ("state_dim", "action_units", "rotation_delta")
+# What a server may ask for in its metadata's `extra_observations`, and where it comes from.
+EXTRA_OBSERVATIONS = {
+    # food -> knife wrench at the flange, flange frame: [N x3, N m x3] (CulinaryCutEnv's extra/wrist_wrench)
+    "observation/wrist_wrench": lambda observation: np.asarray(observation["extra"]["wrist_wrench"],
+                                                               dtype=np.float64).reshape(-1)[:6].copy(),
+}
 
 
 class OpenPIPolicy(RemotePolicy):
@@ -85,6 +96,7 @@ class OpenPIPolicy(RemotePolicy):
             self.chunks = TimedChunks(replan_steps, float(model_rate_hz or MODEL_RATE_HZ[layout]))
         self.right_arm_rest = np.array(ALOHA_REST_ARM)
         self.held_joint: float | None = None
+        self.extra_observations: tuple[str, ...] = ()
         self.transport = OpenPIWebsocketClient(self.url, self.timeouts, api_key=api_key)
 
     def reset(self, instruction, info):
@@ -104,6 +116,12 @@ class OpenPIPolicy(RemotePolicy):
         if served in LAYOUTS and served != self.layout:
             raise PolicyServerError(f"policy openpi: the server at {self.url} serves openpi's {served} layout, "
                                     f"not {self.layout}: set option layout={served}")
+        extras = metadata.get("extra_observations") or []
+        unknown = [key for key in extras if key not in EXTRA_OBSERVATIONS] if isinstance(extras, (list, tuple)) else []
+        if not isinstance(extras, (list, tuple)) or unknown:
+            raise PolicyServerError(f"policy openpi: the server at {self.url} asks for extra observations "
+                                    f"{unknown or extras!r}; this adapter can send {', '.join(EXTRA_OBSERVATIONS)}")
+        self.extra_observations = tuple(extras)
         if self.layout == "aloha" and metadata.get("reset_pose") is not None:
             pose = np.asarray(metadata["reset_pose"], dtype=np.float64).reshape(-1)
             if pose.size < 6:
@@ -111,7 +129,13 @@ class OpenPIPolicy(RemotePolicy):
             self.right_arm_rest = pose[:6]
 
     def request(self, observation: dict) -> dict:
-        """The observation dict in the layout's keys and order, as its example builds it."""
+        """The observation dict in the layout's keys and order, as its example builds it, then the extra
+        observations the server asked for."""
+        request = self.layout_request(observation)
+        request.update((key, EXTRA_OBSERVATIONS[key](observation)) for key in self.extra_observations)
+        return request
+
+    def layout_request(self, observation: dict) -> dict:
         image = resize_with_pad(camera_rgb(observation, self.camera), IMAGE_SIZE, IMAGE_SIZE)
         wrist = (resize_with_pad(camera_rgb(observation, self.wrist_camera), IMAGE_SIZE, IMAGE_SIZE)
                  if self.wrist_camera else None)

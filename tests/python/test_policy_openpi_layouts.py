@@ -148,6 +148,60 @@ def test_aloha_without_a_wrist_camera_sends_cam_high_only():
     assert list(fake.last_request["images"]) == ["cam_high"]  # AlohaInputs masks the missing wrists
 
 
+
+def test_extra_observations_only_when_the_server_asks():
+    """A server's metadata `extra_observations` adds those keys after the layout's (CulinaryCut's trained
+    policy asks for the wrist force); a key the adapter does not know stops it before the first query."""
+    wrench = np.array([1.5, -2.0, 30.0, 0.1, -0.2, 0.05])
+    obs = observation()
+    obs["extra"]["wrist_wrench"] = wrench.astype(np.float64)
+    seen = []
+    metadata = {"layout": "libero", "extra_observations": ["observation/wrist_wrench"]}
+    server = WebsocketPolicyServer(lambda request: seen.append(request) or {"actions": np.zeros((10, 7))},
+                                   metadata).start()
+    try:
+        policy = OpenPIPolicy(url=server.url, camera_size=96)
+        policy.reset(INSTRUCTION, {"control_frequency_hz": 20.0})
+        policy.act(obs)
+        policy.close()
+    finally:
+        server.stop()
+    assert list(seen[0]) == ["observation/image", "observation/wrist_image", "observation/state", "prompt",
+                             "observation/wrist_wrench"]
+    np.testing.assert_array_equal(seen[0]["observation/wrist_wrench"], wrench)
+    server = WebsocketPolicyServer(lambda request: {"actions": np.zeros((10, 7))},
+                                   {"extra_observations": ["observation/smell"]}).start()
+    try:
+        with pytest.raises(PolicyServerError, match="asks for extra observations \\['observation/smell'\\]"):
+            OpenPIPolicy(url=server.url).preflight()
+    finally:
+        server.stop()
+
+
+def test_connection_model_keeps_state_per_connection():
+    """connection_model: one model per connection, so a model's per-episode state starts afresh."""
+    made = []
+
+    def connection_model():
+        count = {"queries": 0}
+        made.append(count)
+
+        def model(request):
+            count["queries"] += 1
+            return {"actions": np.full((10, 7), float(count["queries"]))}
+        return model
+    server = WebsocketPolicyServer(None, {"layout": "libero"}, connection_model=connection_model).start()
+    try:
+        for _ in range(2):
+            policy = OpenPIPolicy(url=server.url, camera_size=96, replan_steps=1)
+            policy.reset(INSTRUCTION, {"control_frequency_hz": 20.0})
+            for _ in range(3):
+                policy.act(observation())
+            policy.close()
+    finally:
+        server.stop()
+    assert [m["queries"] for m in made] == [3, 3]
+
 # --- the wrong layout --------------------------------------------------------------------------------------
 def test_a_request_in_the_wrong_layout_is_named():
     from openpi_client.websocket_client_policy import WebsocketClientPolicy

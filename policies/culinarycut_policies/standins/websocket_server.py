@@ -3,7 +3,9 @@ each binary frame (msgpack + numpy observation) is answered with the action dict
 (`infer_ms`, and `prev_total_ms` from the second query on); when inference raises, the traceback goes
 out as a text frame and the connection closes with 1011. `GET /healthz` answers 200 "OK". With an
 `api_key`, a handshake without `Authorization: Api-Key <key>` is refused with 401 (openpi's own server
-accepts anyone; its client sends the header). The real-model scripts in policies/servers/ use it too."""
+accepts anyone; its client sends the header). The real-model scripts in policies/servers/ use it too, and
+so does the trained policy of culinarycut_learning, whose model keeps a history per connection (one
+connection per episode: the adapters connect at reset): `connection_model` makes one model per connection."""
 from __future__ import annotations
 
 import asyncio
@@ -24,11 +26,17 @@ log = logging.getLogger("culinarycut_policies.websocket")
 
 
 class WebsocketPolicyServer:
-    """Serves `model(observation) -> action dict` on host:port (port 0: a free one, known after start())."""
+    """Serves `model(observation) -> action dict` on host:port (port 0: a free one, known after start()).
+    With `connection_model`, each connection is answered by its own `connection_model()` instead (a model
+    with state that lasts one episode, such as a history of observations); `model` is then unused."""
 
-    def __init__(self, model: Callable[[dict], dict], metadata: dict | None = None, host: str = "127.0.0.1",
-                 port: int = 0, api_key: str | None = None):
+    def __init__(self, model: Callable[[dict], dict] | None, metadata: dict | None = None, host: str = "127.0.0.1",
+                 port: int = 0, api_key: str | None = None,
+                 connection_model: Callable[[], Callable[[dict], dict]] | None = None):
+        if model is None and connection_model is None:
+            raise ValueError("WebsocketPolicyServer needs a model or a connection_model")
         self.model = model
+        self.connection_model = connection_model
         self.metadata = metadata or {}
         self.host, self.port = host, port
         self.api_key = api_key
@@ -75,6 +83,7 @@ class WebsocketPolicyServer:
         return None
 
     async def _handler(self, websocket: ws_server.ServerConnection) -> None:
+        model = self.connection_model() if self.connection_model is not None else self.model
         await websocket.send(msgpack_numpy.packb(self.metadata))
         previous_total_s = None
         while True:
@@ -82,7 +91,7 @@ class WebsocketPolicyServer:
                 started = time.monotonic()
                 observation = msgpack_numpy.unpackb(await websocket.recv())
                 infer_started = time.monotonic()
-                action: dict[str, Any] = self.model(observation)
+                action: dict[str, Any] = model(observation)
                 timing = {"infer_ms": (time.monotonic() - infer_started) * 1000.0}
                 if previous_total_s is not None:
                     timing["prev_total_ms"] = previous_total_s * 1000.0

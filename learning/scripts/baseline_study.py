@@ -1,0 +1,263 @@
+#!/usr/bin/env python3
+"""The learned policy's baseline on the benchmark suites, end to end and resumable:
+
+1. generate a training split at draft: cucumber and banana in every style, at the middle and every ratio
+   0.1-0.9 (`culinarycut data generate`, front and wrist cameras; it resumes itself);
+2. export it (robomimic HDF5; again only when the dataset changed);
+3. train (`python -m culinarycut_learning train`; resumes from its last checkpoint);
+4. serve the checkpoint and run each suite through the openpi adapter (`culinarycut bench run`; each
+   run folder resumes), and the floors (`--floor random`) on the same episodes;
+5. write BASELINES.md and .json (default docs/benchmarks/baselines.{md,json} of this checkout): success
+   per suite with 95 % Wilson intervals, per food, the data, the training and every stage's wall time.
+
+Killed at any point, the same command goes on where it stopped (every stage is resumable and the stage
+times add up in STUDY/study.json). It commits nothing. At full size (the defaults: 10 episodes per task,
+80 tasks, 20,000 training steps, 5 trials of each suite's tasks) it takes many hours on a 2-core machine:
+train on a GPU (`--device cuda`) and spread the episodes over servers (`--server` repeated).
+
+    python learning/scripts/baseline_study.py --out studies/baseline --server 127.0.0.1:50051
+"""
+from __future__ import annotations
+
+import argparse
+import datetime
+import json
+import os
+import platform
+import socket
+import sqlite3
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+CHECKOUT = Path(__file__).resolve().parents[2]
+FOODS = ("cucumber", "banana")
+STYLES = ("normal", "bias", "guillotine", "saw")
+STATES = ("middle",) + tuple(f"ratio-{r / 10:g}" for r in range(1, 10))
+SUITES = ("unseen-seeds", "multi-object", "unseen-language", "cross-object", "continuous-ratio", "split-partial",
+          "topology-ablation")
+
+
+def log(text: str) -> None:
+    print(f"[baseline_study] {text}", file=sys.stderr, flush=True)
+
+
+class Study:
+    """STUDY/study.json: the options of the study and each stage's accumulated wall time."""
+
+    def __init__(self, root: Path, options: dict):
+        self.root = root
+        self.path = root / "study.json"
+        root.mkdir(parents=True, exist_ok=True)
+        self.state = json.loads(self.path.read_text()) if self.path.is_file() else {"options": options, "stages": {}}
+        fixed = ("foods", "styles", "states", "episodes_per_task", "image_size", "seed")
+        changed = [k for k in fixed if self.state["options"].get(k) != options.get(k)]
+        if changed:
+            raise SystemExit(f"{root} holds a study with other data options ({', '.join(changed)}); use another --out")
+        self.state["options"] = options
+        self.save()
+
+    def save(self) -> None:
+        temporary = self.path.with_suffix(".tmp")
+        temporary.write_text(json.dumps(self.state, indent=1, sort_keys=True) + "\n")
+        os.replace(temporary, self.path)
+
+    def stage(self, name: str, command: list, ok_codes=(0,)) -> int:
+        """Runs `command` (python -m ...) with this interpreter, adding its wall time to the stage."""
+        log(f"{name}: {' '.join(map(str, command))}")
+        started = time.monotonic()
+        code = subprocess.call([sys.executable, *map(str, command)], cwd=CHECKOUT)
+        entry = self.state["stages"].setdefault(name, {"wall_s": 0.0})
+        entry["wall_s"] = round(entry["wall_s"] + time.monotonic() - started, 1)
+        entry["exit_code"] = code
+        self.save()
+        if code not in ok_codes:
+            raise SystemExit(f"{name} exited {code}; fix what it says and run the same command again to resume")
+        return code
+
+
+def kept_episodes(dataset: Path) -> int:
+    with sqlite3.connect(dataset / "generation.sqlite") as db:
+        return int(db.execute("SELECT COUNT(*) FROM jobs WHERE kept = 1").fetchone()[0])
+
+
+def export(study: Study, dataset: Path, out: Path) -> None:
+    """Exports again only when the dataset has other kept episodes than the last export."""
+    marker = out / "exported.json"
+    kept = kept_episodes(dataset)
+    if marker.is_file() and json.loads(marker.read_text()).get("kept") == kept:
+        log(f"export: {out} is up to date ({kept} episodes)")
+        return
+    if out.exists():
+        for path in sorted(out.rglob("*"), reverse=True):
+            path.unlink() if path.is_file() else path.rmdir()
+    study.stage("export", ["-m", "culinarycut", "data", "export", dataset, "--out", out, "--format", "robomimic"])
+    marker.write_text(json.dumps({"kept": kept}) + "\n")
+
+
+def policy_port(study: Study, wanted: int | None) -> int:
+    """The policy server's port: the runner's run folders record the policy's url, so a resumed study must
+    serve on the port of its first run (chosen free then, or --port)."""
+    if wanted:
+        study.state["port"] = wanted
+    elif not study.state.get("port"):
+        with socket.socket() as probe:
+            probe.bind(("127.0.0.1", 0))
+            study.state["port"] = probe.getsockname()[1]
+    study.save()
+    return int(study.state["port"])
+
+
+def serve(checkpoint: Path, device: str, port: int) -> tuple[subprocess.Popen, str]:
+    process = subprocess.Popen([sys.executable, "-m", "culinarycut_learning", "serve", "--checkpoint", str(checkpoint),
+                                "--port", str(port), "--device", device], stdout=subprocess.PIPE, text=True,
+                               cwd=CHECKOUT)
+    first = process.stdout.readline()
+    if not first.startswith("listening on "):
+        process.kill()
+        raise SystemExit(f"the policy server did not start: {first}")
+    return process, first.split()[2]
+
+
+def summarise(results: Path) -> dict:
+    """Episodes, successes, rate, 95 % Wilson interval and errors of a run folder, and per food."""
+    from culinarycut.bench.stats import wilson_interval
+    with sqlite3.connect(results / "results.sqlite") as db:
+        rows = db.execute("SELECT food, outcome FROM episodes").fetchall()
+
+    def numbers(outcomes: list[str]) -> dict:
+        n, s = len(outcomes), sum(o == "success" for o in outcomes)
+        low, high = wilson_interval(s, n)
+        return {"episodes": n, "successes": s, "rate": s / n if n else None, "ci95": [low, high],
+                "errors": sum(o == "error" for o in outcomes)}
+    out = numbers([o for _, o in rows])
+    out["by_food"] = {food: numbers([o for f, o in rows if f == food]) for food in sorted({f for f, _ in rows})}
+    return out
+
+
+def evaluate(study: Study, args, url: str | None, policy: str, suite: str) -> dict | None:
+    out = study.root / "bench" / f"{Path(suite).stem}-{policy}"
+    command = ["-m", "culinarycut", "bench", "run", suite, "--policy", "openpi" if policy == "learned" else policy,
+               "--out", out, "--workers", args.workers, "--no-progress"]
+    if policy == "learned":
+        command += ["--policy-url", url, "--policy-option", f"camera_size={args.image_size}"]
+    for server in args.server:
+        command += ["--server", server]
+    if args.trials:
+        command += ["--trials", args.trials]
+    if args.tasks:
+        command += ["--tasks", args.tasks]
+    # 0: all ran cleanly; 3: some episodes stored as errors (counted in the table); 2: no task matches --tasks
+    code = study.stage(f"evaluate {Path(suite).stem} {policy}", command, ok_codes=(0, 2, 3))
+    return None if code == 2 else summarise(out)
+
+
+def write_report(study: Study, args, results: dict, docs: Path) -> None:
+    import torch
+    checkpoint = torch.load(study.root / "run" / "checkpoint.pt", map_location="cpu")
+    training = {"steps": checkpoint["step"], "loss": checkpoint["loss"], "config": checkpoint["config"],
+                "data": {k: checkpoint["data"][k] for k in ("episodes", "frames", "valid_episodes", "sha256")},
+                "device": args.device}
+    commit = subprocess.run(["git", "rev-parse", "--short=12", "HEAD"], capture_output=True, text=True,
+                            cwd=CHECKOUT).stdout.strip() or "unknown"
+    report = {
+        "generated": datetime.date.today().isoformat(), "commit": commit,
+        "machine": {"platform": platform.platform(), "cores": os.cpu_count(), "python": platform.python_version(),
+                    "torch": torch.__version__},
+        "options": study.state["options"], "stages_wall_s": {k: v["wall_s"] for k, v in study.state["stages"].items()},
+        "training": training, "suites": results,
+    }
+    docs.mkdir(parents=True, exist_ok=True)
+    (docs / "baselines.json").write_text(json.dumps(report, indent=1, sort_keys=True) + "\n")
+    o = study.state["options"]
+    lines = [
+        "# Baselines: the learned policy on the suites", "",
+        f"Generated by `learning/scripts/baseline_study.py` on {report['generated']} (commit {commit}; "
+        f"{report['machine']['cores']} cores, {report['machine']['platform']}, torch {report['machine']['torch']}).", "",
+        f"Training data: {', '.join(o['foods'])} in {', '.join(o['styles'])} at {', '.join(o['states'])}, "
+        f"{o['episodes_per_task']} episode(s) per task at draft, front and wrist cameras at {o['image_size']} px: "
+        f"{training['data']['episodes']} training episodes, {training['data']['frames']} frames. "
+        f"Model: docs/learning.md, {training['steps']} steps on {args.device} (last batch loss {training['loss']:.4f}). "
+        f"Evaluation: {'the first ' + str(o['trials']) + ' trial(s) of ' if o['trials'] else ''}each suite's tasks"
+        f"{' matching ' + repr(o['tasks']) if o['tasks'] else ''}, through the openpi adapter's defaults.", "",
+    ]
+    if o.get("note"):
+        lines += [o["note"], ""]
+    lines += ["| suite | policy | episodes | success | rate | 95 % CI (Wilson) | errors |", "|---|---|---|---|---|---|---|"]
+    for suite, policies in results.items():
+        for policy, r in policies.items():
+            if r is None:
+                lines.append(f"| {suite} | {policy} | 0 | - | - | - | - |")
+                continue
+            rate = f"{100 * r['rate']:.0f} %" if r["rate"] is not None else "-"
+            lines.append(f"| {suite} | {policy} | {r['episodes']} | {r['successes']}/{r['episodes']} | {rate} | "
+                         f"{100 * r['ci95'][0]:.0f} % - {100 * r['ci95'][1]:.0f} % | {r['errors']} |")
+    lines += ["", "Wall time per stage (s, accumulated over resumed invocations):", "",
+              "| stage | wall (s) |", "|---|---|"]
+    order = {"generate": 0, "export": 1, "train": 2}
+    stages = sorted(report["stages_wall_s"].items(), key=lambda item: (order.get(item[0], 3), item[0]))
+    lines += [f"| {k} | {v:.1f} |" for k, v in stages]
+    (docs / "baselines.md").write_text("\n".join(lines) + "\n")
+    log(f"wrote {docs / 'baselines.md'} and baselines.json")
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--out", required=True, type=Path, help="the study folder (resumed when it exists)")
+    parser.add_argument("--server", action="append", required=True, metavar="HOST:PORT", help="culinarycut-server (repeatable)")
+    parser.add_argument("--foods", default=",".join(FOODS))
+    parser.add_argument("--styles", default=",".join(STYLES))
+    parser.add_argument("--states", default=",".join(STATES), help="comma list: middle, ratio-R, split-N")
+    parser.add_argument("--episodes-per-task", type=int, default=10)
+    parser.add_argument("--image-size", type=int, default=96, help="cameras and model images, pixels")
+    parser.add_argument("--seed", type=int, default=0, help="the dataset's and the training's seed")
+    parser.add_argument("--workers", type=int, default=2, help="episodes at once (generation and evaluation)")
+    parser.add_argument("--steps", type=int, default=20000, help="training steps")
+    parser.add_argument("--batch-size", type=int, default=32)
+    parser.add_argument("--device", default="cpu", help="training and serving device: cpu, cuda, auto")
+    parser.add_argument("--suites", default=",".join(SUITES), help="comma list of suite names or .toml files")
+    parser.add_argument("--trials", type=int, default=5, help="the first N trials of each task (0: the suite's count)")
+    parser.add_argument("--tasks", help="only the suites' tasks matching this pattern (bench run --tasks)")
+    parser.add_argument("--floor", default="random", help="comma list of built-in policies run beside it ('' for none)")
+    parser.add_argument("--docs", type=Path, default=CHECKOUT / "docs" / "benchmarks",
+                        help="where baselines.md and baselines.json go")
+    parser.add_argument("--port", type=int, help="the policy server's port (default: a free one, kept for resuming)")
+    parser.add_argument("--note", default="", help="a sentence for the report (e.g. that this is a tiny run)")
+    args = parser.parse_args(argv)
+    options = {"foods": args.foods.split(","), "styles": args.styles.split(","), "states": args.states.split(","),
+               "episodes_per_task": args.episodes_per_task, "image_size": args.image_size, "seed": args.seed,
+               "steps": args.steps, "batch_size": args.batch_size, "suites": args.suites.split(","),
+               "trials": args.trials, "tasks": args.tasks, "floor": [p for p in args.floor.split(",") if p],
+               "note": args.note}
+    study = Study(args.out.resolve(), options)
+    root = study.root
+    generate = ["-m", "culinarycut", "data", "generate", "--out", root / "data", "--styles", args.styles,
+                "--states", args.states, "--episodes-per-task", args.episodes_per_task, "--cameras", "front,wrist",
+                "--image-size", args.image_size, "--seed", args.seed, "--workers", args.workers, "--quality", "draft"]
+    for food in options["foods"]:
+        generate += ["--food", food]
+    for server in args.server:
+        generate += ["--server", server]
+    study.stage("generate", generate)
+    export(study, root / "data", root / "export")
+    study.stage("train", ["-m", "culinarycut_learning", "train", "--data", root / "export", "--out", root / "run",
+                          "--steps", args.steps, "--batch-size", args.batch_size, "--image-size", args.image_size,
+                          "--seed", args.seed, "--device", args.device])
+    process, url = serve(root / "run", args.device, policy_port(study, args.port))
+    results: dict[str, dict] = {}
+    try:
+        for suite in options["suites"]:
+            name = Path(suite).stem
+            results[name] = {"learned": evaluate(study, args, url, "learned", suite)}
+            for floor in options["floor"]:
+                results[name][floor] = evaluate(study, args, None, floor, suite)
+    finally:
+        process.terminate()
+        process.wait(30)
+    write_report(study, args, results, args.docs)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
