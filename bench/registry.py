@@ -145,6 +145,11 @@ BENCHMARKS: tuple[Benchmark, ...] = (
               "limits and recovery, stop signals' exit times, a soak's memory", "10 min", ("server",),
               quick_does="a few hundred fuzz requests, a small flood, one stop of each kind, a short soak",
               folder_option="--out"),
+    Benchmark("thread_policy", "thread_policy", "benchmarks/thread_policy.md", "benchmarks/thread_policy.json",
+              "two sessions cutting at once: the cores shared among the Steps running against each Step taking "
+              "its food's threads", "10 min", ("server",), args=("--rounds", "4", "--steps", "4"), quick=None,
+              why_not_quick="a cutting food's control step is about 1,000 MPM substeps even at draft: the "
+                            "smallest round of two servers and two sessions takes 30-50 s"),
     Benchmark("step_rollback", "step_rollback_report", "benchmarks/step_rollback.md", "benchmarks/step_rollback.json",
               "a cancellable Step's rollback while the food sleeps: lazy against the full state copy it replaced, "
               "draft, standard and fine", "1 min", ("bench_step_rollback",), quick_does="draft, 3 rounds"),

@@ -3,6 +3,7 @@ CreateSession with each scene's estimate, refused with RESOURCE_EXHAUSTED naming
 threads that serve calls."""
 from __future__ import annotations
 
+import os
 import time
 from pathlib import Path
 
@@ -20,6 +21,7 @@ def test_limits_are_published(client):
     assert limits.memory_budget_bytes > 0 and limits.max_handler_threads >= 4
     assert limits.max_food_particles == 2_000_000 and limits.max_mpm_substeps_per_step == 50_000
     assert limits.max_camera_pixels == 4_194_304
+    assert limits.step_threads == "shared" and limits.step_cores == os.cpu_count()  # the cores shared among Steps
 
 
 def test_the_memory_budget_bounds_the_sessions():

@@ -17,11 +17,14 @@ struct Outcome {
   std::vector<double> blade_force_z_n;
 };
 
-Outcome RunPartialCut(int threads, std::uint64_t seed, const Material& material = testing::SoftMaterial(5e4, 0.3)) {
+Outcome RunPartialCut(int threads, std::uint64_t seed, const Material& material = testing::SoftMaterial(5e4, 0.3),
+                      int thread_limit = 0) {
   SolverConfig config;
   config.dx_m = 0.004;
   config.threads = threads;
   Solver<float> solver(config, {material});
+  solver.SetThreadLimit(thread_limit);
+  CHECK(solver.team_size() == (thread_limit > 0 ? std::min(threads, thread_limit) : threads));
   const auto shape = MakeFoodShape("apple", 0.4);
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = Eigen::Vector3d(0.5, 0.0, 0.02 - shape->LocalBounds().min().z());
@@ -63,6 +66,13 @@ TEST_CASE("one and two threads give the same bits", "[mpm][determinism]") {
   const Outcome two = RunPartialCut(2, 7);
   CHECK(SameBits(one.particles, two.particles));
   CHECK(one.blade_force_z_n == two.blade_force_z_n);
+}
+
+TEST_CASE("a thread limit (the machine shared among Steps) changes the team, not the bits", "[mpm][determinism]") {
+  const Outcome two = RunPartialCut(2, 7);
+  const Outcome limited = RunPartialCut(2, 7, testing::SoftMaterial(5e4, 0.3), 1);
+  CHECK(SameBits(two.particles, limited.particles));
+  CHECK(two.blade_force_z_n == limited.blade_force_z_n);
 }
 
 TEST_CASE("one and two threads give the same bits with a Maxwell branch", "[mpm][determinism][viscoelasticity]") {
