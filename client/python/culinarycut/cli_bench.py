@@ -1,6 +1,7 @@
 """`culinarycut bench`: list suites, run one against servers, report on stored runs."""
 from __future__ import annotations
 
+import argparse
 import json
 import sys
 from pathlib import Path
@@ -141,7 +142,9 @@ def register(sub) -> None:
                           "HOST:PORT for grpc (docs/policy_protocol.md)")
     run.add_argument("--server", action="append", metavar="HOST:PORT",
                      help="a culinarycut-server (repeatable; default 127.0.0.1:50051)")
-    run.add_argument("--workers", type=int, default=2, help="episodes at once (default %(default)s)")
+    run.add_argument("--workers", type=_workers, default=None, metavar="N|auto",
+                     help="episodes at once (default auto: one per core the servers' Steps share, so each Step's "
+                          "MPM runs one thread; at most 16)")
     run.add_argument("--scheduler", help="a Dask scheduler, tcp://HOST:PORT (default: a local cluster)")
     run.add_argument("--out", help="run folder: results.sqlite and videos (default runs/SUITE-POLICY); "
                                    "an existing one is resumed")
@@ -168,10 +171,20 @@ def register(sub) -> None:
     report.set_defaults(bench_func=cmd_report)
 
 
+def _workers(text: str) -> int | None:
+    """--workers: a count, or auto (None)."""
+    if text == "auto":
+        return None
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of workers or auto") from None
+
+
 def validate_run_args(args) -> str | None:
     """A message for bad run arguments, or None."""
-    if args.workers < 1:
-        return "--workers must be at least 1"
+    if args.workers is not None and args.workers < 1:
+        return "--workers must be at least 1, or auto"
     if args.trials is not None and args.trials < 1:
         return "--trials must be at least 1"
     if args.act_timeout <= 0:

@@ -73,7 +73,7 @@ def _servers(args):
 
 
 def cmd_generate(args) -> int:
-    from culinarycut.bench.preflight import server_versions
+    from culinarycut.bench.preflight import server_infos, server_versions
     from culinarycut.bench.run_errors import RunError
     from culinarycut.datasets.generate import RetryPolicy, generate
     config = config_from_args(args)
@@ -83,7 +83,7 @@ def cmd_generate(args) -> int:
         raise ValueError(f"--retry-backoff: must be >= 0 s, got {args.retry_backoff}")
     with _servers(args) as servers:
         try:
-            versions = server_versions(servers)
+            versions = server_versions(server_infos(servers))
         except RunError as err:
             print(f"error: {err}", file=sys.stderr)
             return EXIT_FAILED

@@ -11,18 +11,38 @@ from culinarycut.policies.base import Policy
 PREFLIGHT_TIMEOUT_S = 10.0
 
 
-def server_versions(servers: list[str]) -> dict[str, tuple[str, str]]:
-    """(version, build id) of each server; RunError naming any that does not answer."""
-    versions = {}
+def server_infos(servers: list[str]) -> dict:
+    """Each server's ServerInfo; RunError naming any that does not answer."""
+    infos = {}
     for server in servers:
         try:
             with Client(server, timeout_s=PREFLIGHT_TIMEOUT_S) as client:
-                info = client.server_info()
+                infos[server] = client.server_info()
         except CulinaryCutError as err:
             raise RunError(f"server {server} is not reachable ({err.code.name}: {err.details}); start it with "
                            f"culinarycut-server --listen {server}, or pass the right --server") from None
-        versions[server] = (info.version, info.build_id)
-    return versions
+    return infos
+
+
+def server_versions(infos: dict) -> dict[str, tuple[str, str]]:
+    """(version, build id) of each server."""
+    return {server: (info.version, info.build_id) for server, info in infos.items()}
+
+
+MAX_AUTO_WORKERS = 16
+OLD_SERVER_WORKERS = 2  # a server too old to say how many cores its Steps share
+
+
+def auto_workers(infos: dict) -> int:
+    """Episodes at once that keep every server's cores busy without oversubscribing them: one per core its
+    Steps share (each Step's MPM then runs one thread), within the sessions it has free; at most 16."""
+    total = 0
+    for info in infos.values():
+        limits = info.limits
+        cores = limits.step_cores or OLD_SERVER_WORKERS
+        free_sessions = max(1, limits.max_sessions - limits.active_sessions)
+        total += max(1, min(cores, free_sessions))
+    return max(1, min(MAX_AUTO_WORKERS, total))
 
 
 def check_tasks(server: str, suite: Suite) -> None:

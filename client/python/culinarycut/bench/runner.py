@@ -16,7 +16,7 @@ from culinarycut.bench.dispatch import AllServersLost, WorkerResult, run_on_work
 from culinarycut.bench.episode import EpisodeOptions
 from culinarycut.bench.episode_scene import suite_episodes
 from culinarycut.bench.policy_error_streak import DEFAULT_MAX_CONSECUTIVE_POLICY_ERRORS, PolicyErrorStreak
-from culinarycut.bench.preflight import check_policy_ready, check_tasks, server_versions
+from culinarycut.bench.preflight import auto_workers, check_policy_ready, check_tasks, server_infos, server_versions
 from culinarycut.bench.run_errors import BadRunInput, RunError
 from culinarycut.bench.storage_faults import storage_faults
 from culinarycut.bench.store import DATABASE_NAME, ResultStore
@@ -31,7 +31,7 @@ class RunConfig:
     out: Path
     policy: str
     policy_options: dict = field(default_factory=dict)
-    workers: int = 1
+    workers: int | None = 1  # None: as many as the servers' cores (preflight.auto_workers)
     scheduler: str | None = None
     record_failures: bool = False
     allow_mixed_versions: bool = False
@@ -157,7 +157,8 @@ def run_suite(config: RunConfig) -> RunSummary:
         policy = make_policy(config.policy, config.policy_options)  # unknown names and bad options fail here
     except (UnknownPolicy, ValueError) as err:
         raise BadRunInput(str(err)) from None
-    versions = server_versions(config.servers)
+    infos = server_infos(config.servers)
+    versions = server_versions(infos)
     resume = config.command_line or "the same command"
     database, resume_step = config.out / DATABASE_NAME, f"resume with: {resume}"
     with storage_faults(database, resume_step):
@@ -184,7 +185,8 @@ def run_suite(config: RunConfig) -> RunSummary:
         dask_client = cluster = None
         try:
             if pending:
-                dask_client, cluster = start_cluster(config.scheduler, config.workers)
+                workers = config.workers or auto_workers(infos)
+                dask_client, cluster = start_cluster(config.scheduler, workers)
                 from distributed import as_completed
                 futures = {dask_client.submit(run_on_worker, spec, config.servers, options, retries=2, pure=False,
                                               key=f"episode-{spec.task.name}-{spec.trial}"): spec
