@@ -147,7 +147,7 @@ BENCHMARKS: tuple[Benchmark, ...] = (
               folder_option="--out"),
     Benchmark("thread_policy", "thread_policy", "benchmarks/thread_policy.md", "benchmarks/thread_policy.json",
               "two sessions cutting at once: the cores shared among the Steps running against each Step taking "
-              "its food's threads", "10 min", ("server",), args=("--rounds", "4", "--steps", "4"), quick=None,
+              "its food's threads", "10 min", ("server",), quick=None,
               why_not_quick="a cutting food's control step is about 1,000 MPM substeps even at draft: the "
                             "smallest round of two servers and two sessions takes 30-50 s"),
     Benchmark("step_rollback", "step_rollback_report", "benchmarks/step_rollback.md", "benchmarks/step_rollback.json",
