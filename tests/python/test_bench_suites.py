@@ -101,7 +101,7 @@ def test_distractors_are_other_foods_in_distinct_slots_around_the_target():
 
 @pytest.mark.parametrize("argv, message", [
     (["bench", "run", "no-such-suite"], "unknown suite 'no-such-suite'; choose one of: .*smoke"),
-    (["bench", "run", "smoke", "--policy", "telepathy"], "unknown policy 'telepathy'; choose one of: noop, "),
+    (["bench", "run", "smoke", "--policy", "telepathy"], "unknown policy 'telepathy'; choose one of: grpc, noop, "),
     (["bench", "run", "smoke", "--workers", "0"], "--workers must be at least 1"),
     (["bench", "run", "smoke", "--policy", "random", "--policy-option", "scale=7"], "scale must be in"),
     (["bench", "run", "smoke", "--policy", "random", "--policy-option", "scale"], "'scale': use key=value"),

@@ -39,9 +39,9 @@ def fingerprint(response) -> bytes:
     """Everything a StepResponse says about the simulation, bit for bit (wall times excluded)."""
     copy = type(response)()
     copy.CopyFrom(response)
-    copy.info.step_wall_time_ms = 0.0
-    copy.info.control_wall_time_ms = 0.0
-    copy.info.physics_wall_time_ms = 0.0
+    for field in copy.info.DESCRIPTOR.fields:
+        if field.name.endswith("_wall_time_ms"):
+            setattr(copy.info, field.name, 0.0)
     return copy.SerializeToString(deterministic=True)
 
 

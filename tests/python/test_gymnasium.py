@@ -134,7 +134,7 @@ def test_info_counts_steps_and_keeps_wall_times_out(address):
             assert not any(key.endswith("wall_time_ms") for key in info)
             assert set(env.last_step_timings) == {"step_wall_time_ms", "control_wall_time_ms", "physics_wall_time_ms",
                                                   "mpm_wall_time_ms", "topology_wall_time_ms", "render_wall_time_ms",
-                                                  "safety_wall_time_ms"}
+                                                  "safety_wall_time_ms", "rollback_wall_time_ms"}
             assert env.last_step_timings["physics_wall_time_ms"] > 0
         env.reset(seed=0)
         assert env.last_step_timings == {}

@@ -165,6 +165,7 @@ def step_timings_to_dict(info: simulator_pb2.StepInfo) -> dict[str, float]:
         "topology_wall_time_ms": float(info.topology_wall_time_ms),
         "render_wall_time_ms": float(info.render_wall_time_ms),    # the scene's cameras
         "safety_wall_time_ms": float(info.safety_wall_time_ms),    # the safety limiter (0 with it off)
+        "rollback_wall_time_ms": float(info.rollback_wall_time_ms),  # saving what a cancelled step puts back
     }
 
 

@@ -18,6 +18,7 @@ from culinarycut.client import Client
 from culinarycut.env import CulinaryCutEnv
 from culinarycut.errors import CulinaryCutError, Unavailable
 from culinarycut.policies.base import EpisodeSession, Policy
+from culinarycut.policies.grpc_policy import PolicyServerError
 from culinarycut.policies.registry import make_policy
 
 DEFAULT_MAX_FORCE_N = 100.0  # the server's F_max when the settings give none (docs/safety.md)
@@ -153,7 +154,7 @@ def _play(client: Client, spec: EpisodeSpec, policy: Policy, options: EpisodeOpt
         control_mode = policy.control_mode
     except Unavailable:
         raise
-    except Exception as err:
+    except (ConnectionError, PolicyServerError) as err:  # the policy's server, not a bug in its code
         row.update(outcome="error", end_reason="policy_error", error=f"metadata: {type(err).__name__}: {err}"[:2000])
         return
     cameras = list(scene.get("cameras", [])) + policy_cameras
