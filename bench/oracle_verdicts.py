@@ -34,8 +34,9 @@ from bench.lib import quick  # noqa: E402
 PAGE, RESULTS = "benchmarks/oracle_verdicts.md", "benchmarks/oracle_verdicts.json"
 # (suite, extra arguments): the smoke suite whole, one trial of each cucumber continuous-ratio task (its
 # banana half repeats the same normal cuts on another food), and coverage's apple, banana and cucumber tasks.
-SUITES = (("smoke", []), ("continuous-ratio", ["--trials", "1", "--tasks", "cucumber/*"]),
-          ("coverage", ["--tasks", "[abc]*/*"]))
+# Coverage first: it has every style (bias, saw, guillotine), the ones the orientation rule tests hardest.
+SUITES = (("coverage", ["--tasks", "[abc]*/*"]), ("smoke", []),
+          ("continuous-ratio", ["--trials", "1", "--tasks", "cucumber/*"]))
 RENDER_STEPS = 60      # control steps timed per scene
 RENDER_WARMUP = 5
 IMAGE_SIZE = 224       # px, the datasets' default
