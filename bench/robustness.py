@@ -55,8 +55,8 @@ SLOW_SCENE = {"quality": "draft", "mpm": {"cfl": 0.012},
 
 FULL = {"fuzz_requests": 20000, "flood_connections": 1000, "flood_hold_s": 15.0, "hard_recovery_wait_s": 30.0,
         "robot_episodes": 2000, "cutting_episodes": 4, "stop_repeats": 3}
-QUICK = {"fuzz_requests": 300, "flood_connections": 200, "flood_hold_s": 0.0, "hard_recovery_wait_s": 2.0,
-         "robot_episodes": 30, "cutting_episodes": 0, "stop_repeats": 1}
+QUICK = {"fuzz_requests": 150, "flood_connections": 100, "flood_hold_s": 0.0, "hard_recovery_wait_s": 1.0,
+         "robot_episodes": 10, "cutting_episodes": 0, "stop_repeats": 1}
 
 
 # --- the machine and the server process -----------------------------------------------------------------
@@ -533,7 +533,7 @@ def render(machine: dict, server: dict, results: dict, wall_s: float) -> str:
         "```bash",
         "bash tests/fuzz/run_fuzz.sh 300        # each target 5 minutes; findings land in build-fuzz/findings/",
         "```", "",
-        "The test suite runs each for 20 s from the committed corpus (`tests/fuzz/corpus/<target>`; seeds",
+        "The test suite runs each for 12 s from the committed corpus (`tests/fuzz/corpus/<target>`; seeds",
         "from `tests/fuzz/make_corpus.py`, and for snapshots from the target itself with",
         "`CULINARYCUT_FUZZ_WRITE_SEEDS=DIR`). New inputs go to a scratch copy; a finding worth keeping is",
         "copied into the corpus by hand with the fix. `fuzz_scene` pins the resolution to a coarse grid so",

@@ -44,9 +44,9 @@ TEST_CASE("a cancellable Step steps bit for bit like a plain one; a cancelled on
   int asleep_cancels = 0, awake_cancels = 0;
   // From the approach (food asleep) until well into the cut (food awake, particles moving).
   for (int step = 0; !oracle.Finished(plain.sim_time_s); ++step) {
-    if (plain.food->first_contact_frame && plain.frame_id > *plain.food->first_contact_frame + 6) break;
+    if (plain.food->first_contact_frame && plain.frame_id > *plain.food->first_contact_frame + 3) break;
     const Action action{oracle.control_mode(), oracle.Act(*model, plain.physics->JointPositions(), plain.sim_time_s)};
-    if (step % 7 == 0) {  // a step cancelled at a different point each time, on a copy
+    if (step % 9 == 0) {  // a step cancelled at a different point each time, on a copy
       State cancelled;
       CopyState(*model, plain, &cancelled);
       const bool asleep = !plain.food->awake;
