@@ -6,7 +6,6 @@
 #include "sim/world/food_step.h"
 #include "sim/world/passive_coupling.h"
 #include "sim/world/safety_stage.h"
-#include "sim/world/snapshot.h"
 #include "sim/world/step_rollback.h"
 
 namespace culinarycut {

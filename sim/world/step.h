@@ -50,7 +50,8 @@ using ThreadLimit = std::function<int()>;
 
 // Preconditions: state has been reset and ValidateAction(model, action) found nothing.
 // With a cancel check, a step it stops leaves the state exactly as before the call
-// (StepResult::cancelled; the state is copied first, which only cancellable steps pay for).
+// (StepResult::cancelled; what it would put back is saved as the step goes, step_rollback.h, which
+// only cancellable steps pay for: the robot always, the food's particles only if the step moves them).
 // Throws std::runtime_error when the food's MPM state runs away (NaN positions, a grid blown up);
 // the state is then half-stepped and must be reset or restored before it is stepped again.
 // `thread_limit` shares the machine with other work; it never changes what is simulated.
