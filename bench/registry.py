@@ -150,6 +150,13 @@ BENCHMARKS: tuple[Benchmark, ...] = (
               "its food's threads", "10 min", ("server",), quick=None,
               why_not_quick="a cutting food's control step is about 1,000 MPM substeps even at draft: the "
                             "smallest round of two servers and two sessions takes 30-50 s"),
+    Benchmark("baselines", "baselines", "benchmarks/baselines.md", "benchmarks/baselines.json",
+              "the learned policy (learning/) against the oracle and random on the suites, with Wilson intervals",
+              "many hours on 2 cores (train on a GPU); resumable", ("server",),
+              args=("--out", "studies/baseline", "--server", "127.0.0.1:50051"), quick=None,
+              why_not_quick="it generates a dataset, trains a model and plays suites; ctest's "
+                            "python_learning_end_to_end runs the same path at a tiny size",
+              folder_under="benchmarks"),
     Benchmark("step_rollback", "step_rollback_report", "benchmarks/step_rollback.md", "benchmarks/step_rollback.json",
               "a cancellable Step's rollback while the food sleeps: lazy against the full state copy it replaced, "
               "draft, standard and fine", "1 min", ("bench_step_rollback",), quick_does="draft, 3 rounds"),
