@@ -12,9 +12,7 @@ import argparse
 import dataclasses
 import json
 import os
-import signal
 import sys
-import threading
 from pathlib import Path
 
 # cuBLAS reads this at its first call: deterministic GEMMs on a GPU (train.set_deterministic).
@@ -92,15 +90,9 @@ def cmd_serve(args) -> int:
     except (FileNotFoundError, ValueError) as err:
         print(f"culinarycut_learning serve: {err}", file=sys.stderr)
         return 1
-    stopped = threading.Event()
-    signal.signal(signal.SIGTERM, lambda *_: stopped.set())
-    server.start()
-    print(f"listening on {server.url} ({policy.metadata['checkpoint']}, step {policy.metadata['step']})", flush=True)
-    try:
-        stopped.wait()
-    except KeyboardInterrupt:
-        pass
-    server.stop()
+    from culinarycut_policies.standins.serving import serve_until_stopped
+    serve_until_stopped(server, lambda: f"listening on {server.url} ({policy.metadata['checkpoint']}, "
+                                        f"step {policy.metadata['step']})")
     return 0
 
 

@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import argparse
 import logging
-import signal
 import sys
-import threading
 
 from culinarycut_policies.standins.launch import MODELS, make_standin
+from culinarycut_policies.standins.serving import serve_until_stopped
 
 
 def _logged(model):
@@ -43,15 +42,7 @@ def main(argv=None) -> int:
         parser.error(str(err))
     if args.log_queries:
         server.model = _logged(server.model)
-    stopped = threading.Event()
-    signal.signal(signal.SIGTERM, lambda *_: stopped.set())
-    server.start()
-    print(f"listening on {server.url}", flush=True)
-    try:
-        stopped.wait()
-    except KeyboardInterrupt:
-        pass
-    server.stop()
+    serve_until_stopped(server, lambda: f"listening on {server.url}")
     return 0
 
 
