@@ -59,6 +59,15 @@ int main(int argc, char** argv) {
   app.add_option("--max-handler-threads", options.max_handler_threads, "gRPC threads serving calls at once")
       ->capture_default_str()
       ->check(CLI::Range(4, 4096));
+  app.add_option("--max-connections", options.connections.max_connections,
+                 "TCP connections open at once, all clients together; past it new ones are closed at once (lowered "
+                 "to what the descriptor limit allows, 3 per connection)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1'000'000));
+  app.add_option("--max-connections-per-address", options.connections.max_per_address,
+                 "TCP connections open at once from one client IP address")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1'000'000));
   app.add_option("--step-cores", options.step_cores,
                  "cores the Steps running at once share (0: every core of the machine)")
       ->capture_default_str()

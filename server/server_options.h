@@ -5,6 +5,7 @@
 #include <string>
 
 #include "server/access_control.h"
+#include "server/connection_gate.h"
 
 namespace culinarycut::server {
 
@@ -21,6 +22,7 @@ struct ServerOptions {
   std::uint32_t max_handler_threads = 64;            // gRPC threads serving calls at once
   std::uint32_t step_cores = 0;                      // cores the Steps running at once share; 0: the machine's
   std::string step_threads = "shared";               // shared: cores / Steps running; model: each its food's
+  ConnectionLimits connections;                      // TCP connections at once, all and per client address
   AccessOptions access;                              // TLS and bearer tokens; none by default
   // Off loopback the server needs TLS and authentication (tokens or client certificates) unless
   // this is set, and then says loudly that anyone who reaches the port controls every session.

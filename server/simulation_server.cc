@@ -134,8 +134,11 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   grpc::ResourceQuota quota("culinarycut-server");
   quota.SetMaxThreads(static_cast<int>(options.max_handler_threads));
   builder.SetResourceQuota(quota);
+  // A TCP port is the gate's: it caps connections and relays them to gRPC on a private unix socket.
+  const bool unix_socket = options.listen_address.rfind("unix:", 0) == 0;
+  if (!unix_socket) gate_ = std::make_unique<ConnectionGate>(options.listen_address, options.connections);
   int bound_port = 0;
-  builder.AddListeningPort(options.listen_address, credentials, &bound_port);
+  builder.AddListeningPort(unix_socket ? options.listen_address : gate_->backend_address(), credentials, &bound_port);
   std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> interceptors;
   interceptors.push_back(std::make_unique<FieldDetailInterceptorFactory>());
   builder.experimental().SetInterceptorCreators(std::move(interceptors));
@@ -146,13 +149,17 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
     throw std::runtime_error("cannot listen on " + options.listen_address +
                              " (port in use or address invalid); pick another with --listen, e.g. 127.0.0.1:0");
   }
+  if (gate_) {
+    gate_->Start();
+    spdlog::info("connections: at most {}, {} per client address", gate_->limits().max_connections,
+                 gate_->limits().max_per_address);
+  }
   // unix:PATH sockets have no port; tcp addresses report the one actually bound (port 0 picks one).
-  const bool unix_socket = options.listen_address.rfind("unix:", 0) == 0;
   server_->GetHealthCheckService()->SetServingStatus(v1::Simulator::service_full_name(), true);
   server_->GetHealthCheckService()->SetServingStatus(v1::Tasks::service_full_name(), true);
   address_ = unix_socket ? options.listen_address
                          : options.listen_address.substr(0, options.listen_address.rfind(':')) + ":" +
-                               std::to_string(bound_port);
+                               std::to_string(gate_->port());
 }
 
 SimulationServer::~SimulationServer() { Shutdown(); }
@@ -163,11 +170,14 @@ void SimulationServer::Shutdown() {
   if (server_) {
     // A Step in flight stops at its next check and rolls back now; other calls get 1 s to finish, then
     // they are cancelled.
+    if (gate_) gate_->StopAccepting();
     sessions_->BeginStopping();
     server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));
     server_->Wait();
     server_.reset();
   }
+  // After gRPC: its goodbyes (GOAWAY) to the clients go through the gate.
+  if (gate_) gate_->Stop();
 }
 
 }  // namespace culinarycut::server

@@ -7,6 +7,7 @@
 
 #include <grpcpp/grpcpp.h>
 
+#include "server/connection_gate.h"
 #include "server/server_options.h"
 #include "server/cpu_share.h"
 #include "server/session_manager.h"
@@ -34,6 +35,7 @@ class SimulationServer {
   void Shutdown();
 
  private:
+  std::unique_ptr<ConnectionGate> gate_;  // declared before server_, so destroyed after gRPC has stopped
   std::unique_ptr<TelemetryPublisher> telemetry_;
   std::unique_ptr<SharedRenderer> renderer_;
   std::unique_ptr<SessionManager> sessions_;

@@ -238,12 +238,11 @@ def test_a_connection_flood_past_the_soft_descriptor_limit_leaves_the_server_ser
                                stderr=subprocess.STDOUT, text=True, preexec_fn=low_soft_limit)
     flood = []
     try:
-        lines = [process.stdout.readline() for _ in range(3)]
-        address = next(m.group(1) for line in lines if (m := re.search(r"listening on (\S+:\d+)", line)))
+        lines = read_until_listening(process)
+        address = lines[-1].split("listening on ")[1].strip()
         assert any("descriptor limit raised from 64" in line for line in lines), lines
-        host, port = address.rsplit(":", 1)
-        for _ in range(300):
-            flood.append(socket.create_connection((host, int(port)), timeout=5))
+        # From 10 addresses, below the 64 connections one address may hold.
+        flood += [connect_from(f"127.0.2.{i % 10 + 1}", address) for i in range(300)]
         with Client(address, timeout_s=10) as during:
             assert during.server_info().version
         for connection in flood:
@@ -255,3 +254,82 @@ def test_a_connection_flood_past_the_soft_descriptor_limit_leaves_the_server_ser
             connection.close()
         process.terminate()
         process.wait(timeout=10)
+
+
+def read_until_listening(process: subprocess.Popen) -> list[str]:
+    """The server's start-up lines up to and including "listening on ..."."""
+    lines = []
+    while not lines or "listening on" not in lines[-1]:
+        line = process.stdout.readline()
+        assert line, f"the server stopped before listening: {lines}"
+        lines.append(line)
+    return lines
+
+
+def connect_from(source: str, address: str) -> socket.socket:
+    """A TCP connection to `address` from the loopback address `source` (any 127.x.y.z is this machine)."""
+    host, port = address.rsplit(":", 1)
+    connection = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+    connection.settimeout(5)
+    connection.bind((source, 0))
+    connection.connect((host, int(port)))
+    return connection
+
+
+def served_on_a_new_connection(address: str) -> CulinaryCutError | None:
+    """GetServerInfo on a connection of its own (gRPC would otherwise share an open client's connection
+    with a new channel to the same address); the error, or None when served."""
+    import grpc
+    from culinarycut.errors import from_rpc_error
+    with grpc.insecure_channel(address, options=[("grpc.use_local_subchannel_pool", 1)]) as channel:
+        try:
+            channel.unary_unary("/culinarycut.v1.Simulator/GetServerInfo")(b"", timeout=3)
+            return None
+        except grpc.RpcError as err:
+            return from_rpc_error(err)
+
+
+def test_a_connection_flood_at_the_hard_descriptor_limit_is_capped_and_the_server_recovers():
+    """At 256 descriptors, soft and hard (no room to raise), gRPC 1.51's own listener died for good after
+    the first accept4 failed with EMFILE. The server's gate caps connections below the limit (3
+    descriptors each) and per client address, so one flooding address leaves the others served, a
+    flood from many addresses is refused at the cap, and a new client is served once it ends."""
+    def low_hard_limit():
+        import resource
+        resource.setrlimit(resource.RLIMIT_NOFILE, (256, 256))
+
+    process = subprocess.Popen([str(server_binary()), "--listen", "127.0.0.1:0", "--max-connections-per-address",
+                                "16"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                               preexec_fn=low_hard_limit)
+    flood = []
+    try:
+        lines = read_until_listening(process)
+        address = lines[-1].split("listening on ")[1].strip()
+        assert any("at most 64 connections" in line for line in lines), lines  # (256 - 64 reserved) / 3
+        with Client(address, timeout_s=10) as before:
+            assert before.server_info().version
+            # One address opens 300 connections: 16 are relayed, the rest closed at once.
+            flood += [connect_from("127.0.0.2", address) for _ in range(300)]
+            assert served_on_a_new_connection(address) is None
+            # 400 more from 40 addresses fill the cap: the server stays below its descriptor limit.
+            flood += [connect_from(f"127.0.1.{i % 40 + 1}", address) for i in range(400)]
+            refused = served_on_a_new_connection(address)
+            assert isinstance(refused, Unavailable) and "--max-connections" in str(refused), refused
+            assert before.server_info().version  # a connection made before the flood goes on
+            for connection in flood:
+                connection.close()
+            flood.clear()
+            deadline = time.monotonic() + 10
+            while served_on_a_new_connection(address) is not None:  # the gate sees the closes on its next wake-up
+                assert time.monotonic() < deadline, "no new client served 10 s after the flood"
+        process.terminate()
+        output = process.communicate(timeout=10)[0]
+        assert process.returncode == 0
+        assert "Too many open files" not in output
+        refused = re.search(r"refused (\d+) at --max-connections, (\d+) at --max-connections-per-address", output)
+        assert refused and int(refused.group(1)) > 0 and int(refused.group(2)) >= 284, output[-2000:]
+    finally:
+        for connection in flood:
+            connection.close()
+        if process.poll() is None:
+            process.kill()

@@ -29,7 +29,14 @@ std::string Details(const grpc::Status& status) {
            "culinarycut.v1 message, e.g. a string field that is not UTF-8; the request was not applied, and this "
            "is a fault in what the client sent, not in the engine";
   }
-  return status.error_message();
+  const std::string& message = status.error_message();
+  // A TCP connection the server closed as soon as it was made: it was at its connection caps, or stopping.
+  if (status.error_code() == grpc::StatusCode::UNAVAILABLE &&
+      (message.find("Socket closed") != std::string::npos || message.find("Connection reset") != std::string::npos)) {
+    return message + "; the server closed the connection: it may be at its connection caps (--max-connections, "
+                     "--max-connections-per-address; docs/protocol.md) or shutting down";
+  }
+  return message;
 }
 
 }  // namespace

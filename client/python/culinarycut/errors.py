@@ -76,6 +76,10 @@ UNDECODABLE_REQUEST = ("the server could not decode the request (gRPC answered I
                        "not a valid culinarycut.v1 message, e.g. a string field that is not UTF-8; the request was "
                        "not applied, and this is a fault in what the client sent, not in the engine")
 
+# A TCP connection the server closed as soon as it was made: it was at its connection caps, or stopping.
+CLOSED_CONNECTION_HINT = ("; the server closed the connection: it may be at its connection caps "
+                          "(--max-connections, --max-connections-per-address; docs/protocol.md) or shutting down")
+
 
 def from_rpc_error(err: grpc.RpcError) -> CulinaryCutError:
     """Map a grpc.RpcError (a grpc.Call) to the matching CulinaryCutError subclass."""
@@ -84,6 +88,8 @@ def from_rpc_error(err: grpc.RpcError) -> CulinaryCutError:
     if code == grpc.StatusCode.INTERNAL and not details:
         details = UNDECODABLE_REQUEST
     details = details or str(err)
+    if code == grpc.StatusCode.UNAVAILABLE and ("Socket closed" in details or "Connection reset" in details):
+        details += CLOSED_CONNECTION_HINT
     trailers = err.trailing_metadata() if hasattr(err, "trailing_metadata") else None
     field = next((value for key, value in (trailers or ()) if key == FIELD_METADATA_KEY), "")
     cls = _BY_CODE.get(code)

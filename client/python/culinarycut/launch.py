@@ -14,7 +14,7 @@ from pathlib import Path
 SERVER_NAME = "culinarycut-server"
 # Where the package sits when it runs from a CulinaryCut checkout (an editable install).
 CHECKOUT_ROOT = Path(__file__).resolve().parents[3]
-_LISTEN_RE = re.compile(r"listening on (\S+:\d+)")
+_LISTEN_RE = re.compile(r"listening on (\S+)")  # host:port, or unix:/path
 _TELEMETRY_RE = re.compile(r"telemetry on (tcp://127\.0\.0\.1:\d+)")
 
 
