@@ -44,7 +44,7 @@ struct Direction {
   size_t begin = 0;
   size_t end = 0;
   bool eof = false;       // the source sent FIN
-  bool shut = false;      // and the sink has been told (shutdown SHUT_WR)
+  bool shut = false;      // and gRPC has been told (shutdown SHUT_WR)
   bool empty() const { return begin == end; }
   bool full() const { return end == bytes.size(); }
 };
@@ -431,7 +431,7 @@ bool WriteFrom(Direction& direction, int to, bool& failed) {
   }
 }
 
-// Passes a finished direction's FIN on once its bytes are out.
+// Passes the client's FIN on to gRPC once its bytes are out.
 void PassOnEnd(Direction& direction, int to) {
   if (direction.eof && direction.empty() && !direction.shut) {
     shutdown(to, SHUT_WR);
@@ -450,8 +450,10 @@ void ConnectionGate::Loop::Pump(Relay& relay) {
     if (!moved) break;
   }
   PassOnEnd(relay.up, relay.backend);
-  PassOnEnd(relay.down, relay.client);
-  if (relay.failed || (relay.up.shut && relay.down.shut)) {
+  // gRPC closing its end ends the connection: waiting for the client's own close would let a silent
+  // client keep its slot after gRPC's handshake or idle timeout dropped it.
+  const bool backend_done = relay.down.eof && relay.down.empty();
+  if (relay.failed || backend_done) {
     Close(&relay);
     return;
   }

@@ -22,20 +22,25 @@ using culinarycut::server::ConnectionLimits;
 
 namespace {
 
-// A unix-socket echo server standing in for gRPC: echoes each connection until its end of stream.
+// A unix-socket echo server standing in for gRPC: echoes each connection until its end of stream, or
+// with `hang_up` closes each at once (as gRPC does at its handshake timeout).
 class EchoBackend {
  public:
-  explicit EchoBackend(const std::string& address) {
+  explicit EchoBackend(const std::string& address, bool hang_up = false) {
     listener_ = socket(AF_UNIX, SOCK_STREAM, 0);
     sockaddr_un path{};
     path.sun_family = AF_UNIX;
     std::strncpy(path.sun_path, address.substr(5).c_str(), sizeof path.sun_path - 1);  // after "unix:"
     REQUIRE(bind(listener_, reinterpret_cast<sockaddr*>(&path), sizeof path) == 0);
     REQUIRE(listen(listener_, 64) == 0);
-    thread_ = std::thread([this] {
+    thread_ = std::thread([this, hang_up] {
       for (;;) {
         const int connection = accept(listener_, nullptr, nullptr);
         if (connection < 0) return;
+        if (hang_up) {
+          close(connection);
+          continue;
+        }
         echoes_.emplace_back([connection] {
           char buffer[4096];
           ssize_t got = 0;
@@ -110,6 +115,19 @@ TEST_CASE("the gate relays megabytes both ways unchanged and passes a half-close
   close(client);
   gate.Stop();
   CHECK(gate.counts().relayed == 1);
+}
+
+TEST_CASE("when gRPC hangs up, the gate closes the client's side too and frees its slot", "[server][gate]") {
+  ConnectionGate gate("127.0.0.1:0", ConnectionLimits{});
+  EchoBackend backend(gate.backend_address(), /*hang_up=*/true);
+  gate.Start();
+  const int silent = ConnectTo(gate.port());  // never sends a byte, never closes
+  char byte = 0;
+  CHECK(recv(silent, &byte, 1, 0) == 0);  // an end of stream, not the 5 s receive timeout
+  for (int attempt = 0; attempt < 50 && gate.counts().open > 0; ++attempt) usleep(10'000);
+  CHECK(gate.counts().open == 0);
+  close(silent);
+  gate.Stop();
 }
 
 TEST_CASE("connections past the per-address cap are closed, other addresses still served", "[server][gate]") {
