@@ -81,6 +81,8 @@ def episode_spec(suite: Suite, task: Task, trial: int) -> EpisodeSpec:
         "max_episode_steps": task.max_episode_steps,
         "cameras": [dict(camera) for camera in suite.cameras],
     }
+    if task.mpm:
+        scene["mpm"] = dict(task.mpm)
     if task.safety_limiter:
         scene["effects"]["safety_limiter"] = True
         scene["safety"] = task.safety_spec()

@@ -50,6 +50,7 @@ class Task:
     max_episode_steps: int
     group: str = ""
     material_overrides: dict = field(default_factory=dict, hash=False, compare=False)
+    mpm: dict = field(default_factory=dict, hash=False, compare=False)  # the preset's resolution overridden
     safety_limiter: bool = False     # the safety limiter (docs/safety.md) on in the episode's scene
     seed_name: str = ""              # the name the seeds come from: without the limiter's suffix, so the
                                      # settings of an ablation see the same scenes trial by trial
@@ -228,6 +229,7 @@ def _expand(entry: dict, defaults: dict, where: str = "suite.tasks[0]") -> list[
                           trials=entry.get("trials", defaults["trials"]),
                           max_episode_steps=entry.get("max_episode_steps", defaults["max_episode_steps"]),
                           material_overrides={**defaults["material_overrides"], **entry.get("material_overrides", {})},
+                          mpm={**defaults["mpm"], **entry.get("mpm", {})},
                           food=combo["food"], style=combo["style"], state=combo["state"],
                           ratio=float(combo["ratio"]), side=combo["side"], pieces=int(combo["pieces"]),
                           distractors=int(combo["distractors"]), topology=bool(combo["topology"]),
@@ -247,7 +249,7 @@ def load_suite(name_or_path: str) -> Suite:
     if document["name"] != path.stem:
         raise SuiteError(f"suite.name: {document['name']!r} differs from the file name {path.stem!r}")
     defaults = {"trials": 20, "max_episode_steps": 600, "language": "train", "quality": "draft", "scene": "table",
-                "topology": True, "material_overrides": {}, "safety_limiter": False, "safety": {}}
+                "topology": True, "material_overrides": {}, "mpm": {}, "safety_limiter": False, "safety": {}}
     defaults.update({k: document[k] for k in defaults if k in document})
     defaults["safety_declared"] = "safety_limiter" in document
     tasks: list[Task] = []
