@@ -56,7 +56,8 @@ BENCHMARKS: tuple[Benchmark, ...] = (
               ("bench_render_frames",), quick_does="every image, into the temporary folder",
               images=("images/render_table_whole_front_left_right.png", "images/render_channels_front.png")),
     Benchmark("tls_overhead", "tls_overhead", "benchmarks/tls_overhead.md", "benchmarks/tls_overhead.json",
-              "what TLS and bearer tokens add to a Step round trip against plaintext", "1 min", ("server",),
+              "what TLS and bearer tokens, and the connection gate's relay, add to a Step round trip against "
+              "plaintext", "1 min", ("server",),
               quick_does="1 round of 3 steps"),
     Benchmark("soak", "soak", "benchmarks/soak.md", "benchmarks/soak.json",
               "server memory (RSS) over 5,000 robot-only and 50 cutting episodes", "40 min", ("server",),
@@ -88,6 +89,10 @@ BENCHMARKS: tuple[Benchmark, ...] = (
               "benchmarks/suite_throughput.json",
               "suite runner: episodes per hour, the harness's share, scaling with 1-4 servers", "40 min", ("server",),
               quick_does="one strawberry episode as the 1-server scaling run"),
+    Benchmark("draft_lever", "draft_lever", "benchmarks/draft_lever.md", "benchmarks/draft_lever.json",
+              "the draft preset's CFL in whole episodes: the smoke suite at the draft and at the previous draft's CFL, "
+              "side by side, with each episode's time by stage", "10 min", ("server",),
+              quick_does="one strawberry episode per setting, one round"),
     Benchmark("oracle_verdicts", "oracle_verdicts", "benchmarks/oracle_verdicts.md",
               "benchmarks/oracle_verdicts.json",
               "the oracle under the orientation-scoring success rule, each style's signature, both scenes and their "

@@ -1,0 +1,138 @@
+#!/usr/bin/env python3
+"""Benchmark: what the draft preset's substep (its CFL factor) is worth in whole episodes: the smoke suite with
+the oracle, run by `culinarycut bench run` as a user runs it, at the draft preset and at the draft's previous
+CFL (the suite's `mpm = { cfl = ... }`), in alternating rounds against one server, with where each episode's
+time goes (the server's stages, the policy, the harness). Writes docs/benchmarks/draft_lever.{md,json}.
+
+    .venv/bin/python bench/draft_lever.py [--rounds 2]
+"""
+from __future__ import annotations
+
+import json
+import sqlite3
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from culinarycut.launch import ServerProcess, server_binary
+
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness import ROOT, arguments, dated_machine_info, docs_for, interleaved  # noqa: E402
+from bench.lib import quick  # noqa: E402
+from bench.lib.accuracy import PRESETS, PREVIOUS_DRAFT  # noqa: E402
+
+PAGE, RESULTS = "benchmarks/draft_lever.md", "benchmarks/draft_lever.json"
+SUITE = ROOT / "benchmarks" / "smoke.toml"
+WORKERS = 2
+# The server's stages as the rows store them (StepInfo.stage_wall_time_ms summed by the session), in page order.
+STAGES = ("mpm", "physics", "render", "rollback", "topology", "task", "control", "safety")
+
+
+def with_cfl(suite: Path, cfl: float, folder: Path) -> Path:
+    """The suite's TOML with `mpm = { cfl = ... }` added at its top level (same name, another folder)."""
+    text = suite.read_text()
+    first_table = text.index("\n[")
+    path = folder / suite.name
+    path.write_text(text[:first_table] + f"\nmpm = {{ cfl = {cfl:g} }}\n" + text[first_table:])
+    return path
+
+
+def run_once(suite: Path, server: ServerProcess, out: Path) -> dict:
+    """One `culinarycut bench run` into a fresh folder: its wall time and per-episode sums from the rows."""
+    command = [sys.executable, "-m", "culinarycut", "bench", "run", str(suite), "--workers", str(WORKERS),
+               "--server", server.address, "--out", str(out), "--no-progress"]
+    started = time.perf_counter()
+    done = subprocess.run(command, capture_output=True, text=True)
+    wall_s = time.perf_counter() - started
+    if done.returncode != 0:
+        raise RuntimeError(f"{' '.join(command)} failed:\n{done.stdout[-3000:]}\n{done.stderr[-3000:]}")
+    db = sqlite3.connect(out / "results.sqlite")
+    rows = db.execute("SELECT outcome, wall_s, env_wall_s, policy_wall_s, stage_wall_s, resolved_scene "
+                      "FROM episodes").fetchall()
+    db.close()
+    stages = {stage: 0.0 for stage in STAGES}
+    for row in rows:
+        for stage, seconds in json.loads(row[4] or "{}").items():
+            stages[stage] = stages.get(stage, 0.0) + seconds
+    episode_s = sum(r[1] for r in rows)
+    server_s, policy_s = sum(r[2] for r in rows), sum(r[3] for r in rows)
+    cfls = {json.loads(r[5])["mpm"]["cfl"] for r in rows}
+    return {"wall_s": wall_s, "episodes": len(rows), "successes": sum(r[0] == "success" for r in rows),
+            "episode_s": episode_s, "server_call_s": server_s, "policy_s": policy_s,
+            "harness_s": episode_s - server_s - policy_s, "stages_s": stages, "resolved_cfl": sorted(cfls)}
+
+
+def main() -> int:
+    parser = arguments(__doc__)
+    parser.add_argument("--rounds", type=int, default=2, help="runs of the suite per setting, alternating")
+    args = parser.parse_args()
+    docs = docs_for(args)
+    rounds = 1 if args.quick else args.rounds
+    with tempfile.TemporaryDirectory() as scratch:
+        folder = Path(scratch)
+        suite = quick.suite(folder) if args.quick else SUITE
+        (folder / "previous").mkdir()
+        settings = {f"draft now ({PRESETS['draft'].label})": suite,
+                    f"previous draft ({PREVIOUS_DRAFT.label})": with_cfl(suite, PREVIOUS_DRAFT.cfl,
+                                                                          folder / "previous")}
+        counter = iter(range(10_000))
+        with ServerProcess(server_binary(), max_sessions=8, idle_timeout_s=600) as server:
+            by_round = interleaved({name: (lambda s=path: run_once(s, server, folder / f"run-{next(counter)}"))
+                                    for name, path in settings.items()}, rounds,
+                                   announce=lambda i, name: print(f"round {i + 1}/{rounds}: {name}", flush=True))
+    results = {name: _totals(runs) for name, runs in by_round.items()}
+    now, previous = results.values()
+    data = {"machine": dated_machine_info(), "suite": str(SUITE.relative_to(ROOT)), "workers": WORKERS,
+            "rounds": rounds, "results": results,
+            "episodes_per_hour_ratio": now["episodes_per_hour"] / previous["episodes_per_hour"]}
+    text = _markdown(data)
+    docs.publish(PAGE, text, RESULTS, data, __file__)
+    print(text)
+    return 0
+
+
+def _totals(runs: list[dict]) -> dict:
+    """The rounds of one setting summed: episodes per hour over all of them, seconds per episode by stage."""
+    episodes = sum(r["episodes"] for r in runs)
+    wall_s = sum(r["wall_s"] for r in runs)
+    per_episode = {stage: sum(r["stages_s"].get(stage, 0.0) for r in runs) / episodes for stage in STAGES}
+    server_other = sum(r["server_call_s"] for r in runs) / episodes - sum(per_episode.values())
+    return {"episodes": episodes, "successes": sum(r["successes"] for r in runs), "wall_s": wall_s,
+            "episodes_per_hour": 3600.0 * episodes / wall_s,
+            "episode_s": sum(r["episode_s"] for r in runs) / episodes,
+            "per_episode_s": {**per_episode, "server, outside the stages (scene set-up, reset, observations, the wire)": server_other,
+                              "policy": sum(r["policy_s"] for r in runs) / episodes,
+                              "harness": sum(r["harness_s"] for r in runs) / episodes},
+            "resolved_cfl": sorted({c for r in runs for c in r["resolved_cfl"]}), "runs": runs}
+
+
+def _markdown(data: dict) -> str:
+    machine, results = data["machine"], data["results"]
+    names = list(results)
+    lines = ["# The draft preset's substep: episodes per hour", "",
+             f"Generated by `bench/draft_lever.py`: `culinarycut bench run` on `{data['suite']}` with the oracle, "
+             f"{data['workers']} workers against one server, no cameras; the draft preset as it is now against the "
+             "same suite with the previous draft's CFL (`mpm = { cfl = ... }` in the suite), "
+             f"{data['rounds']} alternating rounds each.", "",
+             f"Machine: {machine['cpu_model']}, {machine['cores']} cores, {machine['platform']}; {machine['date']}.", "",
+             "| setting | episodes | successes | wall s | episodes / hour | s per episode |", "|---|---|---|---|---|---|"]
+    for name, r in results.items():
+        lines.append(f"| {name} | {r['episodes']} | {r['successes']} | {r['wall_s']:.0f} | "
+                     f"{r['episodes_per_hour']:.0f} | {r['episode_s']:.1f} |")
+    lines += ["", f"Episodes per hour, draft now over the previous draft: **{data['episodes_per_hour_ratio']:.2f}x** "
+              "(measured side by side in this run).", "",
+              "Where an episode's time goes (seconds per episode, the worker's wall time; the stages are the server's "
+              "own timers):", "", "| part | " + " | ".join(names) + " |", "|---|" + "---|" * len(names)]
+    parts = list(next(iter(results.values()))["per_episode_s"])
+    for part in parts:
+        lines.append(f"| {part} | " + " | ".join(f"{results[n]['per_episode_s'][part]:.2f}" for n in names) + " |")
+    lines += ["", "Stages that took no time (no cameras, no limiter) show 0.00. How the draft's CFL was chosen, and "
+              "what it costs in accuracy: [../accuracy.md](../accuracy.md)."]
+    return "\n".join(lines) + "\n"
+
+
+if __name__ == "__main__":
+    sys.exit(main())
