@@ -3,6 +3,7 @@
     train --data EXPORT --out RUN [--steps N] [--device cpu|cuda|auto] ...   train, or resume RUN
     serve --checkpoint RUN --port P                                          the openpi websocket server
     info  --checkpoint RUN                                                   what a checkpoint holds
+    cstm-classifier train ... / cstm-generator pairs|train ...               the CSTM (cstm/cli.py)
 
 Exit codes: 0 done; 1 a run that cannot go on (unreadable data, a run folder of other settings, no
 checkpoint); 2 bad arguments; 130 interrupted (run the same train command again to resume)."""
@@ -134,7 +135,11 @@ def main(argv=None) -> int:
     serve.add_argument("--api-key", help="require Authorization: Api-Key KEY (the adapter's api_key option)")
     info = commands.add_parser("info", help="print what a checkpoint holds")
     info.add_argument("--checkpoint", required=True)
+    from culinarycut_learning.cstm.cli import register as register_cstm
+    cstm = register_cstm(commands)
     args = parser.parse_args(argv)
+    if args.command in cstm:
+        return cstm[args.command][args.cstm_command](args)
     return {"train": cmd_train, "serve": cmd_serve, "info": cmd_info}[args.command](args)
 
 
