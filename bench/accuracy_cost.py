@@ -28,9 +28,10 @@ if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import th
 
 from bench.harness import arguments, cc_cut, dated_machine_info, docs_for, missing, pyplot, save_figure  # noqa: E402
 from bench.lib.accuracy import (ACTIVITY_RADII_MM, GRID, GUARD_CASE, GUARD_METRICS, HIGH_CFLS,  # noqa: E402
-                                MAX_CHOSEN_CFL, PRESETS, PREVIOUS_STANDARD, QUANTITY_NAMES, REFERENCE, RESOLVED,
-                                SLOW_CASE, SLOW_GRID, SLOW_GRIDS, SPEED_M_S, TARGET_SPEEDUP, WHOLE_CASE, WHOLE_GRID,
-                                Setting, cases, check, guard_bounds, reference_record, slow_case, slow_study,
+                                MAX_CHOSEN_CFL, PRESETS, PREVIOUS_DRAFT, PREVIOUS_STANDARD, QUANTITY_NAMES, REFERENCE,
+                                RESOLVED, SLOW_CASE, SLOW_GRID, SLOW_GRIDS, SPEED_M_S, TARGET_SPEEDUP, WHOLE_CASE,
+                                WHOLE_GRID, Setting, cases, check, draft_pick, guard_bounds, reference_record,
+                                slow_case, slow_study,
                                 stored_run, stored_run_path, study, with_setting, worse_than)
 
 sys.path.insert(1, str(Path(__file__).resolve().parents[1] / "tools"))
@@ -145,6 +146,7 @@ def _findings(stored: dict) -> list[str]:
     slow_by_key = {r["key"]: r for r in slow["rows"]}
     slow_real = slow_by_key[PREVIOUS_STANDARD.key]
     target = slow["target"]
+    draft_choice = draft_pick(stored["rows"], slow["rows"], stored["whole"]["rows"])
     lines = [
         f"- **The standard preset is chosen from the front**: the cheapest real-mass setting at least as accurate as "
         f"the previous standard ({PREVIOUS_STANDARD.label}) on every quantity is **{pick['label']}**, "
@@ -152,6 +154,16 @@ def _findings(stored: dict) -> list[str]:
         + ("That is the standard preset now." if pick["key"] == PRESETS["standard"].key else
            f"**The standard preset ({PRESETS['standard'].label}) is not that setting: update "
            "sim/world/quality_preset.cc and PRESETS here.**"),
+        *([] if draft_choice is None else [
+        f"- **The draft's substep, from the front**: the cheapest real-mass setting at least as accurate "
+        f"as {PREVIOUS_DRAFT.label} (the draft preset on 2026-11-28, kept as the yardstick) on every quantity, over these cuts and on both of the robot's "
+        f"slow cuts, is **{draft_choice['label']}**: {draft_choice['speedup']:.1f}x less wall time and "
+        f"{draft_choice['substep_ratio']:.1f}x fewer substeps over the same cuts. "
+        + ("That is the draft preset now." if draft_choice["key"] == PRESETS["draft"].key else
+           f"**The draft preset is still {PRESETS['draft'].label}**: switching it moves every force at draft, so it "
+           "goes with refitting the safety model (fitted at draft, docs/safety.md) and rerunning the oracle's "
+           "verdicts; what the pick is worth in whole episodes is measured in "
+           "[benchmarks/draft_lever.md](benchmarks/draft_lever.md).")]),
         f"- **standard** is within {100 * standard['worst']['peak_force']:.1f} % of the reference's peak force, "
         f"{100 * standard['worst']['force_curve_l2']:.1f} % of its force curve and "
         f"{standard['worst']['cut_position_mm']:.2f} mm of its cut on every cut (the previous standard: "
@@ -473,10 +485,21 @@ def main() -> int:
         stored["guard_bounds"] = guard_bounds(stored["rows"])
         docs.write_json(RESULTS, stored, __file__, indent=1)
     stored = docs.stored(RESULTS)
+    if relabel_presets(stored):  # PRESETS changed since the run (a preset re-chosen from its front)
+        docs.write_json(RESULTS, stored, __file__, indent=1)
     write_outputs(docs, stored, table)
     print(f"wrote {docs.path(PAGE)} (standard-level accuracy {stored['cheaper_than_standard']['speedup']:.1f}x "
           f"cheaper with {stored['cheaper_than_standard']['label']})")
     return 0
+
+
+def relabel_presets(stored: dict) -> bool:
+    """Names each row's preset as PRESETS says now and bounds the guard at them; True when anything changed."""
+    before = json.dumps([stored["guard_bounds"], [r["preset"] for r in stored["rows"]]])
+    for row in stored["rows"]:
+        row["preset"] = next((name for name, preset in PRESETS.items() if preset.key == row["key"]), None)
+    stored["guard_bounds"] = guard_bounds(stored["rows"])
+    return json.dumps([stored["guard_bounds"], [r["preset"] for r in stored["rows"]]]) != before
 
 
 def write_outputs(docs, stored: dict, table: Path) -> None:

@@ -51,6 +51,10 @@ class Setting:
 # are measured against.
 PRESETS = {"draft": Setting(8, 4, 0.3), "standard": Setting(4, 6, 0.8)}
 PREVIOUS_STANDARD = Setting(4, 8, 0.2)
+# The draft preset was dx 8 mm, 4 ppc, CFL 0.3 until the study chose its CFL from the front (2026-11-28); that
+# setting stays in the grid as the draft's yardstick, and the draft's substep is studied up to the stability edge.
+PREVIOUS_DRAFT = Setting(8, 4, 0.3)
+DRAFT_CFLS = (0.3, 0.5, 0.6, 0.8, 1.0)
 REFERENCE = Setting(2.5, 8, 0.2)
 # Activity radii studied (mm): 5 and 8 cells at dx 4 mm, the least the solver allows and a wider margin.
 ACTIVITY_RADII_MM = (20.0, 32.0)
@@ -60,7 +64,8 @@ ACTIVITY_RADII_MM = (20.0, 32.0)
 HIGH_CFLS = (0.6, 0.8, 1.0)
 MAX_CHOSEN_CFL = 0.8
 # One knob at a time around the previous standard preset, then the levers together.
-GRID = sorted({*PRESETS.values(), PREVIOUS_STANDARD, REFERENCE,
+GRID = sorted({*PRESETS.values(), PREVIOUS_STANDARD, PREVIOUS_DRAFT, REFERENCE,
+               *(Setting(8, 4, cfl) for cfl in DRAFT_CFLS),
                *(Setting(dx, 8, 0.2) for dx in (8, 6, 5, 3)),
                *(Setting(4, 4, cfl) for cfl in (0.2, 0.4)),
                *(Setting(4, 8, cfl) for cfl in (0.3, 0.4, 0.5)),
@@ -177,7 +182,8 @@ SLOW_GRID = sorted({REFERENCE, *(Setting(4, 8, 0.2, s) for s in SLOW_SCALINGS),
                     *(Setting(4, 8, 0.5, s) for s in SLOW_SCALINGS[:2]),
                     *(Setting(4, ppc, 0.5) for ppc in (5, 6)), *(Setting(4, 6, cfl) for cfl in HIGH_CFLS),
                     *(Setting(4, 4, 0.4, s) for s in SLOW_SCALINGS[:3]),
-                    *(Setting(4, 8, 0.4, 1.0, radius) for radius in ACTIVITY_RADII_MM)},
+                    *(Setting(4, 8, 0.4, 1.0, radius) for radius in ACTIVITY_RADII_MM),
+                    *(Setting(8, 4, cfl) for cfl in DRAFT_CFLS)},
                    key=lambda s: s.order)
 # The robot episode's cut (examples/cut_cucumber.py): the whole cucumber, 0.3 of its length from one end. Activity
 # freezes what lies more than its radius from the knife, so the whole food shows what it is worth where a 0.6-scale
@@ -187,7 +193,7 @@ WHOLE_GRID = sorted({REFERENCE, PREVIOUS_STANDARD, Setting(4, 8, 0.4), Setting(4
                      *(Setting(4, 8, cfl, 4.0) for cfl in (0.4, 0.5)), *(Setting(4, ppc, 0.5) for ppc in (5, 6)),
                      *(Setting(4, 6, cfl) for cfl in HIGH_CFLS),
                      *(Setting(4, 8, 0.4, 1.0, radius) for radius in ACTIVITY_RADII_MM),
-                     Setting(4, 8, 0.4, 4.0, ACTIVITY_RADII_MM[0])},
+                     Setting(4, 8, 0.4, 4.0, ACTIVITY_RADII_MM[0]), *(Setting(8, 4, cfl) for cfl in DRAFT_CFLS)},
                     key=lambda s: s.order)
 SLOW_GRIDS = {SLOW_CASE: SLOW_GRID, WHOLE_CASE: WHOLE_GRID}
 # The target set for the study: a cut at or below the previous standard's errors in this much less wall time.
@@ -327,6 +333,27 @@ def study(results: dict) -> dict:
         refinement[name] = {"peak_force": richardson({dx: r["peak_blade_n"] for dx, r in by_dx.items()}),
                             "peak_force_by_dx": {f"{dx:g}": r["peak_blade_n"] for dx, r in sorted(by_dx.items())}}
     return {"rows": rows, "refinement": refinement, "cheaper_than_standard": _cheaper_than_standard(rows)}
+
+
+def draft_pick(rows: list[dict], slow_rows: list[dict], whole_rows: list[dict]) -> dict | None:
+    """The cheapest choosable real-mass setting without activity at least as accurate as the previous draft on
+    every quantity, over the study's cuts and on both of the robot's slow cuts (each against its own
+    reference): what the draft preset became. None for a study run before the draft's substep was in it."""
+    if not all(any(r["key"] == PREVIOUS_DRAFT.key for r in table) for table in (rows, slow_rows, whole_rows)):
+        return None
+    def as_accurate_as_previous(table: list[dict], errors_of) -> set[str]:
+        previous = next(r for r in table if r["key"] == PREVIOUS_DRAFT.key)
+        return {r["key"] for r in table if as_accurate(errors_of(r), errors_of(previous))}
+
+    accurate = (as_accurate_as_previous(rows, lambda r: r["worst"])
+                & as_accurate_as_previous(slow_rows, lambda r: r["errors"])
+                & as_accurate_as_previous(whole_rows, lambda r: r["errors"]))
+    previous = next(r for r in rows if r["key"] == PREVIOUS_DRAFT.key)
+    candidates = [r for r in rows if r["key"] in accurate and r["key"] != REFERENCE.key and choosable(r)
+                  and r["setting"]["mass_scaling"] == 1.0 and not r["setting"].get("activity_mm")]
+    best = min(candidates, key=lambda r: r["wall_s"])
+    return {"key": best["key"], "label": best["label"], "speedup": previous["wall_s"] / best["wall_s"],
+            "substep_ratio": previous["substeps"] / best["substeps"]}
 
 
 def _cheaper_than_standard(rows: list[dict]) -> dict:

@@ -24,13 +24,14 @@ void ValidateSolverConfig(const SolverConfig& config) {
           "speed caps must be > 0");
   require(config.grid_damping_per_s >= 0.0, "grid_damping_per_s must be >= 0");
   require(config.gravity_m_s2.allFinite(), "gravity must be finite");
-  require(config.mass_scaling >= 1.0 && config.mass_scaling <= 1e4, "mass_scaling must lie in [1, 1e4]");
+  require(config.mass_scaling >= 1.0 && config.mass_scaling <= kMaxMassScaling,
+          "mass_scaling must lie in [1, " + std::to_string(static_cast<int>(kMaxMassScaling)) + "]");
   require(config.grid_margin_cells >= 1, "grid_margin_cells must be >= 1");
   require(config.threads >= 1, "threads must be >= 1");
   const Activity& activity = config.activity;
   // Frozen food must stay clear of the nodes split by the blade (2 dx beside it) with its whole
   // stencil (1.5 sqrt(3) dx), so the radius is at least 5 cells.
-  require(activity.radius_m == 0.0 || (activity.radius_m >= 5.0 * config.dx_m - 1e-12 &&
+  require(activity.radius_m == 0.0 || (activity.radius_m >= kMinActivityRadiusCells * config.dx_m - 1e-12 &&
                                        std::isfinite(activity.radius_m)),
           "activity.radius_m must be 0 (off) or at least 5 dx");
   require(activity.sleep_speed_m_s >= 0.0 && activity.wake_speed_m_s > activity.sleep_speed_m_s,

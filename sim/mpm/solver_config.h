@@ -54,8 +54,12 @@ struct CuttingParameters {
 // from the blade that has come to rest is frozen, its stress a fixed load on the grid, until the
 // blade comes near or its neighbours move it. Frozen food cannot sag, bend or rock: the price is
 // measured in docs/accuracy.md. 0 = off: every particle is integrated every substep.
+// The least activity radius in cells: a frozen particle must lie outside every active one's stencil
+// (1.5 sqrt(3) dx), with a margin.
+inline constexpr double kMinActivityRadiusCells = 5.0;
+
 struct Activity {
-  double radius_m = 0.0;             // from the blade's bounding box; 0 = off, else >= 5 dx
+  double radius_m = 0.0;             // from the blade's bounding box; 0 = off, else >= kMinActivityRadiusCells dx
   // A particle may freeze once its speed and |C_ij| dx stay below the sleep speed; food under a slow
   // knife (0.05 m/s) moves at a few mm/s throughout, so lower values freeze next to nothing.
   double sleep_speed_m_s = 3e-3;
@@ -63,6 +67,10 @@ struct Activity {
   int check_every_substeps = 16;     // how often particles are checked (sooner for a fast knife)
   int quiet_checks = 4;              // consecutive quiet checks before a particle freezes
 };
+
+// The most mass scaling the solver and scenes accept: far past what keeps a cut quasi-static (the
+// accuracy study's slow cut goes to x256), a bound on the stable step's growth (sqrt: 31.6x).
+inline constexpr double kMaxMassScaling = 1000.0;
 
 struct SolverConfig {
   double dx_m = 0.004;                  // grid spacing
@@ -78,7 +86,7 @@ struct SolverConfig {
   // this many times its real mass, so the wave speed falls by sqrt(s) and the stable dt grows by it,
   // while its weight stays real (gravity acts on the scaled mass as g / s). Valid while the food's
   // kinetic energy stays small against its elastic energy; 1 = off.
-  double mass_scaling = 1.0;
+  double mass_scaling = 1.0;            // in [1, kMaxMassScaling]
   // Empty cells around the particles' bounding box. One is all the stencils need (the box is refit
   // every substep); more changed nothing but rounding and cost 2-5 % of a cut (docs/benchmarks/grid_extent.md).
   int grid_margin_cells = 1;

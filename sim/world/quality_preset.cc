@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "sim/mpm/solver_config.h"
 #include "sim/world/measured_accuracy.h"
 #include "sim/world/model.h"
 
@@ -16,8 +17,8 @@ struct NamedPreset {
 };
 
 // standard was dx 4 mm, 8 ppc, CFL 0.2 until the accuracy study found CFL 0.4, then 6 ppc at CFL 0.5, then
-// 6 ppc at CFL 0.8, as accurate on every quantity but the knife's speed in less time (5.5x less,
-// docs/accuracy.md); fine keeps CFL 0.2 as the study's reference does.
+// 6 ppc at CFL 0.8, as accurate on the study's cuts in less time (docs/accuracy.md); fine keeps CFL 0.2 as
+// the study's reference does. draft's CFL could be 0.6 at its accuracy; it moves with the safety model's refit.
 const NamedPreset kPresets[] = {
     {"draft", {0.008, 4, 0.3}},
     {"standard", {0.004, 6, 0.8}},
@@ -77,16 +78,18 @@ MpmResolution ResolveMpmResolution(const std::string& quality, const std::option
     resolution.cfl = *overrides.cfl;
   }
   if (overrides.mass_scaling) {
-    if (!(*overrides.mass_scaling >= 1.0 && *overrides.mass_scaling <= 1000.0)) {
-      error << "scene.mpm.mass_scaling must be in [1, 1000], got " << *overrides.mass_scaling;
+    if (!(*overrides.mass_scaling >= 1.0 && *overrides.mass_scaling <= mpm::kMaxMassScaling)) {
+      error << "scene.mpm.mass_scaling must be in [1, " << mpm::kMaxMassScaling << "], got " << *overrides.mass_scaling;
       throw SceneError(error.str());
     }
     resolution.mass_scaling = *overrides.mass_scaling;
   }
   if (overrides.activity_radius_m) {
     const double radius_m = *overrides.activity_radius_m;
-    if (!(radius_m == 0.0 || (radius_m >= 5.0 * resolution.dx_m - 1e-12 && radius_m <= 1.0))) {
-      error << "scene.mpm.activity_radius must be 0 (off) or in [5 dx, 1] m = [" << 5.0 * resolution.dx_m
+    // The solver's own rule (solver_config.h), said here in the scene's terms.
+    if (!(radius_m == 0.0 || (radius_m >= mpm::kMinActivityRadiusCells * resolution.dx_m - 1e-12 && radius_m <= 1.0))) {
+      error << "scene.mpm.activity_radius must be 0 (off) or in [5 dx, 1] m = ["
+            << mpm::kMinActivityRadiusCells * resolution.dx_m
             << ", 1] m, got " << radius_m;
       throw SceneError(error.str());
     }

@@ -10,10 +10,12 @@
 
 namespace culinarycut {
 
+// No defaults for the grid, the particles and the step: the presets below (quality_preset.cc) are their
+// one source, and an unset (zero) resolution is refused by the solver rather than run at a stale setting.
 struct MpmResolution {
-  double dx_m = 0.004;          // grid spacing
-  int particles_per_cell = 8;   // per dx^3 cell
-  double cfl = 0.2;             // dt = cfl dx / wave speed
+  double dx_m = 0.0;            // grid spacing
+  int particles_per_cell = 0;   // per dx^3 cell
+  double cfl = 0.0;             // dt = cfl dx / wave speed
   double mass_scaling = 1.0;    // inertia multiplier (sim/mpm/solver_config.h); 1 = real mass
   double activity_radius_m = 0.0;  // food this far from the knife may freeze (solver_config.h); 0 = off
 };

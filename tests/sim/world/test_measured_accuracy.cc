@@ -20,8 +20,7 @@ TEST_CASE("draft and standard are measured settings; standard is as accurate as 
   CHECK(draft.relative_cost < 0.25 * standard.relative_cost);  // at least 4x cheaper
   CHECK(draft.peak_force_error > standard.peak_force_error);
   // The standard preset until the study: dx 4 mm, 8 ppc, CFL 0.2.
-  MpmResolution previous;
-  previous.cfl = 0.2;
+  const MpmResolution previous{0.004, 8, 0.2};
   const MeasuredAccuracy old_standard = Measured(previous);
   CHECK(old_standard.relative_cost > 1.5);
   CHECK(standard.peak_force_error <= old_standard.peak_force_error);
@@ -49,7 +48,7 @@ TEST_CASE("an accuracy target resolves to the cheapest real-mass setting that me
   AccuracyTargetConfig loose;
   loose.force_error = 0.3;
   loose.cut_position_error_mm = 1.0;
-  CHECK(SettingLabel(ResolveMpmResolution("standard", loose, {})) == "dx 8 mm, 4 ppc, CFL 0.3");  // draft
+  CHECK(ResolveMpmResolution("standard", loose, {}).dx_m == Approx(0.008));  // the draft's grid
   // Two bounds together: both hold.
   AccuracyTargetConfig both;
   both.force_error = 0.1;
