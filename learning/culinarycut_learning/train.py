@@ -61,6 +61,27 @@ def step_seed(seed: int, step: int) -> int:
     return int.from_bytes(digest[:8], "little") >> 1
 
 
+def optimisation_step(model: torch.nn.Module, optimizer: torch.optim.Optimizer, loss: torch.Tensor, lr: float,
+                      grad_clip: float) -> float:
+    """Backpropagates `loss` and steps `optimizer` at learning rate `lr`, the gradient's norm clipped to
+    `grad_clip`; the loss's value. The one update every trainer here (the policy, CSTM's C and f) makes."""
+    for group in optimizer.param_groups:
+        group["lr"] = lr
+    optimizer.zero_grad(set_to_none=True)
+    loss.backward()
+    torch.nn.utils.clip_grad_norm_(model.parameters(), grad_clip)
+    optimizer.step()
+    return float(loss.detach())
+
+
+def step_record(step: int, loss_value: float, lr: float, started: float, log_every: int, save_every: int,
+                steps: int) -> dict | None:
+    """The log line's record at a logging or saving step (and the last), else None."""
+    if step % log_every and step % save_every and step != steps:
+        return None
+    return {"step": step, "loss": loss_value, "lr": lr, "elapsed_s": round(time.monotonic() - started, 3)}
+
+
 def learning_rate(config: TrainConfig, step: int) -> float:
     """Linear warm-up to lr, then cosine down to lr * min_lr_fraction at the last step (step counts from 1)."""
     if step <= config.warmup_steps:
@@ -174,24 +195,16 @@ def train(data: Path, out: Path, config: TrainConfig, device: str = "cpu", progr
             ids, numbers = prompt_arrays(tokenizer, batch["texts"], rng, config.word_dropout)
             inputs = to_tensors(batch, ids, numbers, torch_device)
             torch.manual_seed(step_seed(config.seed, step))
-            for group in optimizer.param_groups:
-                group["lr"] = learning_rate(config, step)
             predicted = model(**inputs)
             target = model.normalise_actions(torch.from_numpy(batch["actions"]).to(torch_device))
             loss = masked_l1(predicted, target, torch.from_numpy(batch["action_mask"]).to(torch_device))
-            optimizer.zero_grad(set_to_none=True)
-            loss.backward()
-            torch.nn.utils.clip_grad_norm_(model.parameters(), config.grad_clip)
-            optimizer.step()
-            loss_value = float(loss.detach())
+            loss_value = optimisation_step(model, optimizer, loss, learning_rate(config, step), config.grad_clip)
             bar.set_postfix_str(f"loss {loss_value:.4f}", refresh=False)
             bar.update(1)
             if step == kill_at:
                 os.kill(os.getpid(), signal.SIGKILL)
-            record = None
-            if step % config.log_every == 0 or step % config.save_every == 0 or step == config.steps:
-                record = {"step": step, "loss": loss_value, "lr": learning_rate(config, step),
-                          "elapsed_s": round(time.monotonic() - started, 3)}
+            record = step_record(step, loss_value, learning_rate(config, step), started, config.log_every,
+                                 config.save_every, config.steps)
             if step % config.save_every == 0 or step == config.steps:
                 if valid_episodes:
                     record["valid_l1"] = validation_loss(model, valid_episodes, tokenizer, config, torch_device)

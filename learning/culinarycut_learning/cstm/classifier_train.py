@@ -20,7 +20,8 @@ from culinarycut_learning.cstm.contact_classifier import ContactClassifier
 from culinarycut_learning.cstm.contact_data import ContactFrames, load_split
 from culinarycut_learning.data import file_digest, find_robomimic_file
 from culinarycut_learning.progress import progress_bar
-from culinarycut_learning.train import learning_rate, resolve_device, set_deterministic, shift_images, step_seed
+from culinarycut_learning.train import (learning_rate, optimisation_step, resolve_device, set_deterministic,
+                                        shift_images, step_record, step_seed)
 
 EVAL_BATCH = 256
 
@@ -88,22 +89,14 @@ def train_classifier(data: Path, out: Path, config: ClassifierConfig, device: st
             picked = balanced_batch(train_frames.labels, rng, optim.batch_size)
             images = shift_images(train_frames.images[picked][:, None, None], rng, config.shift_px)[:, 0, 0]
             torch.manual_seed(step_seed(optim.seed, step))   # dropout, when the config has any
-            for group in optimizer.param_groups:
-                group["lr"] = learning_rate(optim, step)
             logits = model(torch.from_numpy(np.ascontiguousarray(images)).to(torch_device))
             target = torch.from_numpy(train_frames.labels[picked].astype(np.float32)).to(torch_device)
-            loss = loss_fn(logits, target)
-            optimizer.zero_grad(set_to_none=True)
-            loss.backward()
-            torch.nn.utils.clip_grad_norm_(model.parameters(), optim.grad_clip)
-            optimizer.step()
-            loss_value = float(loss.detach())
+            loss_value = optimisation_step(model, optimizer, loss_fn(logits, target), learning_rate(optim, step),
+                                           optim.grad_clip)
             bar.set_postfix_str(f"loss {loss_value:.4f}", refresh=False)
             bar.update(1)
-            record = None
-            if step % optim.log_every == 0 or step % optim.save_every == 0 or step == optim.steps:
-                record = {"step": step, "loss": loss_value, "lr": learning_rate(optim, step),
-                          "elapsed_s": round(time.monotonic() - started, 3)}
+            record = step_record(step, loss_value, learning_rate(optim, step), started, optim.log_every,
+                                 optim.save_every, optim.steps)
             if step % optim.save_every == 0 or step == optim.steps:
                 metrics = evaluate(model, valid_frames, torch_device)
                 if metrics is not None:

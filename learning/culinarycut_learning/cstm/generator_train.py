@@ -20,7 +20,8 @@ from culinarycut_learning.cstm.style_generator import StyleGenerator
 from culinarycut_learning.cstm.styles import STYLES
 from culinarycut_learning.data import STD_FLOOR
 from culinarycut_learning.progress import progress_bar
-from culinarycut_learning.train import learning_rate, masked_l1, resolve_device, set_deterministic, step_seed
+from culinarycut_learning.train import (learning_rate, masked_l1, optimisation_step, resolve_device,
+                                        set_deterministic, step_record, step_seed)
 
 
 def normalisation(windows: dict[str, torch.Tensor]) -> dict[str, list[float]]:
@@ -86,20 +87,12 @@ def train_generator(pairs: Path, out: Path, config: GeneratorConfig, device: str
             rng = np.random.default_rng(step_seed(optim.seed, step))
             picked = torch.from_numpy(rng.integers(0, len(windows["inputs"]), size=optim.batch_size))
             torch.manual_seed(step_seed(optim.seed, step))   # dropout, when the config has any
-            for group in optimizer.param_groups:
-                group["lr"] = learning_rate(optim, step)
-            loss = windows_loss(model, windows, picked, torch_device)
-            optimizer.zero_grad(set_to_none=True)
-            loss.backward()
-            torch.nn.utils.clip_grad_norm_(model.parameters(), optim.grad_clip)
-            optimizer.step()
-            loss_value = float(loss.detach())
+            loss_value = optimisation_step(model, optimizer, windows_loss(model, windows, picked, torch_device),
+                                           learning_rate(optim, step), optim.grad_clip)
             bar.set_postfix_str(f"loss {loss_value:.4f}", refresh=False)
             bar.update(1)
-            record = None
-            if step % optim.log_every == 0 or step % optim.save_every == 0 or step == optim.steps:
-                record = {"step": step, "loss": loss_value, "lr": learning_rate(optim, step),
-                          "elapsed_s": round(time.monotonic() - started, 3)}
+            record = step_record(step, loss_value, learning_rate(optim, step), started, optim.log_every,
+                                 optim.save_every, optim.steps)
             if step % optim.save_every == 0 or step == optim.steps:
                 if valid is not None:
                     model.eval()
