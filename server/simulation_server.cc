@@ -115,9 +115,13 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
     throw std::runtime_error("--step-threads must be shared or model, not '" + options.step_threads + "'");
   }
   cpu_share_ = std::make_unique<CpuShare>(static_cast<int>(options.step_cores), options.step_threads == "shared");
+  // A TCP port is the gate's: it caps connections and relays them to gRPC on a private unix socket.
+  const bool unix_socket = options.listen_address.rfind("unix:", 0) == 0;
+  if (!unix_socket) gate_ = std::make_unique<ConnectionGate>(options.listen_address, options.connections);
   service_ = std::make_unique<SimulatorService>(std::move(robot), sessions_.get(), telemetry_.get(), renderer_.get(),
                                                 cpu_share_.get(), SnapshotSeal(options.snapshot_key_file),
-                                                options.max_handler_threads, std::move(safety_model));
+                                                options.max_handler_threads, std::move(safety_model),
+                                                gate_ ? gate_->limits() : ConnectionLimits{0, 0});
   task_service_ = std::make_unique<TaskService>(sessions_.get());
 
   grpc::EnableDefaultHealthCheckService(true);
@@ -134,9 +138,6 @@ SimulationServer::SimulationServer(const ServerOptions& options) {
   grpc::ResourceQuota quota("culinarycut-server");
   quota.SetMaxThreads(static_cast<int>(options.max_handler_threads));
   builder.SetResourceQuota(quota);
-  // A TCP port is the gate's: it caps connections and relays them to gRPC on a private unix socket.
-  const bool unix_socket = options.listen_address.rfind("unix:", 0) == 0;
-  if (!unix_socket) gate_ = std::make_unique<ConnectionGate>(options.listen_address, options.connections);
   int bound_port = 0;
   builder.AddListeningPort(unix_socket ? options.listen_address : gate_->backend_address(), credentials, &bound_port);
   std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> interceptors;

@@ -11,6 +11,7 @@
 #include "server/wire/observation.h"
 #include "server/wire/safety.h"
 #include "server/wire/scene.h"
+#include "sim/mpm/solver_config.h"
 #include "sim/world/controller.h"
 #include "sim/world/quality_preset.h"
 #include "sim/world/scene_budget.h"
@@ -20,7 +21,8 @@
 namespace culinarycut::server {
 SimulatorService::SimulatorService(RobotDescription robot, SessionManager* sessions, TelemetryPublisher* telemetry,
                                    SharedRenderer* renderer, CpuShare* cpu_share, SnapshotSeal seal,
-                                   std::uint32_t max_handler_threads, SafetyModelSource safety_model)
+                                   std::uint32_t max_handler_threads, SafetyModelSource safety_model,
+                                   ConnectionLimits connections)
     : robot_(std::move(robot)),
       cpu_share_(cpu_share),
       sessions_(sessions),
@@ -28,6 +30,7 @@ SimulatorService::SimulatorService(RobotDescription robot, SessionManager* sessi
       renderer_(renderer),
       seal_(std::move(seal)),
       max_handler_threads_(max_handler_threads),
+      connections_(connections),
       safety_model_(std::move(safety_model)) {}
 
 double SimulatorService::ObserveToWire(Session& session, v1::FrameStamp* stamp, v1::Observation* wire,
@@ -69,6 +72,10 @@ grpc::Status SimulatorService::GetServerInfo(grpc::ServerContext* context, const
   limits->set_max_camera_pixels(kMaxCameraPixelsPerSession);
   limits->set_step_cores(static_cast<std::uint32_t>(cpu_share_->cores()));
   limits->set_step_threads(cpu_share_->shared() ? "shared" : "model");
+  limits->set_max_connections(connections_.max_connections);
+  limits->set_max_connections_per_address(connections_.max_per_address);
+  limits->set_max_mass_scaling(mpm::kMaxMassScaling);
+  limits->set_min_activity_radius_cells(mpm::kMinActivityRadiusCells);
   for (const std::string& name : QualityPresetNames()) {
     const MpmResolution resolution = ResolveMpmResolution(name, std::nullopt, {});
     v1::QualityPreset* preset = info->add_quality_presets();

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "culinarycut/v1/simulator.grpc.pb.h"
+#include "server/connection_gate.h"
 #include "server/safety_model.h"
 #include "server/session_manager.h"
 #include "server/shared_renderer.h"
@@ -24,7 +25,8 @@ class SimulatorService final : public v1::Simulator::Service {
   // `cpu_share` divides the cores among the Steps running at once.
   SimulatorService(RobotDescription robot, SessionManager* sessions, TelemetryPublisher* telemetry,
                    SharedRenderer* renderer, CpuShare* cpu_share, SnapshotSeal seal,
-                   std::uint32_t max_handler_threads, SafetyModelSource safety_model);
+                   std::uint32_t max_handler_threads, SafetyModelSource safety_model,
+                   ConnectionLimits connections = {0, 0});
 
   grpc::Status GetServerInfo(grpc::ServerContext*, const v1::GetServerInfoRequest*, v1::ServerInfo*) override;
   grpc::Status CreateSession(grpc::ServerContext*, const v1::CreateSessionRequest*, v1::CreateSessionResponse*) override;
@@ -51,6 +53,7 @@ class SimulatorService final : public v1::Simulator::Service {
   SharedRenderer* renderer_;
   const SnapshotSeal seal_;
   const std::uint32_t max_handler_threads_;  // published in GetServerInfo
+  const ConnectionLimits connections_;       // the connection gate's caps, published; zero: a unix socket
   const SafetyModelSource safety_model_;
 };
 

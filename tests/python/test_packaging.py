@@ -3,6 +3,7 @@
 Debian's grpcio and protobuf serve, without the project's .venv), talking to the real server."""
 from __future__ import annotations
 
+import re
 import shutil
 import subprocess
 import sys
@@ -48,6 +49,7 @@ def assert_package_serves(python: Path, package_dir: Path, address: str, cwd: Pa
     info = run([python.parent / "culinarycut", "info", "--address", address], cwd=cwd)  # the console script
     assert "culinarycut.v1" in info and "pd_joint_pos" in info, info
     assert "standard" in info and "unmeasured" in info, info  # the fine preset: no numbers, not zeros
+    assert re.search(r"connections +at most \d+, \d+ per client address", info), info
     run([python, "-c", "from culinarycut import CulinaryCutEnv; import sys\n"
          "with CulinaryCutEnv(sys.argv[1]) as env: env.reset(seed=0); env.step(env.action_space.sample())", address],
         cwd=cwd)

@@ -22,6 +22,16 @@ def test_limits_are_published(client):
     assert limits.max_food_particles == 2_000_000 and limits.max_mpm_substeps_per_step == 50_000
     assert limits.max_camera_pixels == 4_194_304
     assert limits.step_threads == "shared" and limits.step_cores == os.cpu_count()  # the cores shared among Steps
+    # The connection gate's caps as fitted to the descriptor limit, and the scene's MPM bounds.
+    assert 0 < limits.max_connections_per_address <= limits.max_connections <= 1024
+    assert limits.max_mass_scaling == 1000.0 and limits.min_activity_radius_cells == 5.0
+
+
+def test_a_unix_socket_has_no_connection_caps(tmp_path):
+    with ServerProcess(server_binary(), listen=f"unix:{tmp_path}/server.sock") as server, \
+            Client(server.address) as client:
+        limits = client.server_info().limits
+        assert (limits.max_connections, limits.max_connections_per_address) == (0, 0)
 
 
 def test_the_memory_budget_bounds_the_sessions():

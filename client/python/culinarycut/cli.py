@@ -54,6 +54,9 @@ def cmd_info(args) -> int:
     print(f"control modes {', '.join(info.control_modes) or '-'}")
     print(f"sessions      {info.limits.active_sessions} active of {info.limits.max_sessions} max, "
           f"idle timeout {info.limits.idle_timeout_s:g} s")
+    limits = info.limits
+    print("connections   " + (f"at most {limits.max_connections}, {limits.max_connections_per_address} per client "
+                              "address" if limits.max_connections else "unix socket, uncapped"))
     print(f"telemetry     {info.telemetry_endpoint or 'off'}")
     for index, preset in enumerate(info.quality_presets):
         expected = preset.expected
