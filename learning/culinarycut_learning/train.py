@@ -74,6 +74,18 @@ def optimisation_step(model: torch.nn.Module, optimizer: torch.optim.Optimizer, 
     return float(loss.detach())
 
 
+def resume_state(resumed: dict | None, model: torch.nn.Module, optimizer: torch.optim.Optimizer, out: Path,
+                 steps: int, log) -> int:
+    """Loads a resumed checkpoint's model and optimizer (when there is one) and says so; the step to go on from."""
+    if resumed is None:
+        return 0
+    model.load_state_dict(resumed["model"])
+    optimizer.load_state_dict(resumed["optimizer"])
+    start = int(resumed["step"])
+    log(f"resuming {out} at step {start} of {steps}")
+    return start
+
+
 def step_record(step: int, loss_value: float, lr: float, started: float, log_every: int, save_every: int,
                 steps: int) -> dict | None:
     """The log line's record at a logging or saving step (and the last), else None."""
@@ -165,12 +177,7 @@ def train(data: Path, out: Path, config: TrainConfig, device: str = "cpu", progr
     no_decay = [p for n, p in model.named_parameters() if not (p.ndim >= 2 and "position" not in n and "type" not in n)]
     optimizer = torch.optim.AdamW([{"params": decay, "weight_decay": config.weight_decay},
                                    {"params": no_decay, "weight_decay": 0.0}], lr=config.lr)
-    start = 0
-    if resumed is not None:
-        model.load_state_dict(resumed["model"])
-        optimizer.load_state_dict(resumed["optimizer"])
-        start = int(resumed["step"])
-        log(f"resuming {out} at step {start} of {config.steps}")
+    start = resume_state(resumed, model, optimizer, out, config.steps, log)
     out.mkdir(parents=True, exist_ok=True)
     (out / "config.json").write_text(json.dumps({**config.to_dict(), "data": str(data_file), "data_sha256": digest},
                                                 indent=2, sort_keys=True) + "\n")

@@ -20,8 +20,8 @@ from culinarycut_learning.cstm.contact_classifier import ContactClassifier
 from culinarycut_learning.cstm.contact_data import ContactFrames, load_split
 from culinarycut_learning.data import file_digest, find_robomimic_file
 from culinarycut_learning.progress import progress_bar
-from culinarycut_learning.train import (learning_rate, optimisation_step, resolve_device, set_deterministic,
-                                        shift_images, step_record, step_seed)
+from culinarycut_learning.train import (learning_rate, optimisation_step, resolve_device, resume_state,
+                                        set_deterministic, shift_images, step_record, step_seed)
 
 EVAL_BATCH = 256
 
@@ -68,12 +68,7 @@ def train_classifier(data: Path, out: Path, config: ClassifierConfig, device: st
     torch.manual_seed(optim.seed)
     model = ContactClassifier(config.model).to(torch_device)
     optimizer = torch.optim.AdamW(model.parameters(), lr=optim.lr, weight_decay=optim.weight_decay)
-    start = 0
-    if resumed is not None:
-        model.load_state_dict(resumed["model"])
-        optimizer.load_state_dict(resumed["optimizer"])
-        start = int(resumed["step"])
-        log(f"resuming {out} at step {start} of {optim.steps}")
+    start = resume_state(resumed, model, optimizer, out, optim.steps, log)
     data_info.update(camera=config.model.camera, camera_size=train_frames.camera_size, train_frames=len(train_frames),
                      train_contact_frames=int(train_frames.labels.sum()), held_out=held_out,
                      held_out_frames=len(valid_frames))

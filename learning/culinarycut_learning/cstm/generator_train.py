@@ -21,7 +21,7 @@ from culinarycut_learning.cstm.styles import STYLES
 from culinarycut_learning.data import STD_FLOOR
 from culinarycut_learning.progress import progress_bar
 from culinarycut_learning.train import (learning_rate, masked_l1, optimisation_step, resolve_device,
-                                        set_deterministic, step_record, step_seed)
+                                        resume_state, set_deterministic, step_record, step_seed)
 
 
 def normalisation(windows: dict[str, torch.Tensor]) -> dict[str, list[float]]:
@@ -69,12 +69,7 @@ def train_generator(pairs: Path, out: Path, config: GeneratorConfig, device: str
     torch.manual_seed(optim.seed)
     model = StyleGenerator(config.model, stats).to(torch_device)
     optimizer = torch.optim.AdamW(model.parameters(), lr=optim.lr, weight_decay=optim.weight_decay)
-    start = 0
-    if resumed is not None:
-        model.load_state_dict(resumed["model"])
-        optimizer.load_state_dict(resumed["optimizer"])
-        start = int(resumed["step"])
-        log(f"resuming {out} at step {start} of {optim.steps}")
+    start = resume_state(resumed, model, optimizer, out, optim.steps, log)
     data_info.update(train_pairs=len(train_files), valid_pairs=len(valid_files), windows=len(windows["inputs"]),
                      styles=styles)
     log_path = runs.start_folder(out, config.to_dict(), data_info, start)
