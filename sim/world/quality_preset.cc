@@ -18,9 +18,9 @@ struct NamedPreset {
 
 // standard was dx 4 mm, 8 ppc, CFL 0.2 until the accuracy study found CFL 0.4, then 6 ppc at CFL 0.5, then
 // 6 ppc at CFL 0.8, as accurate on the study's cuts in less time (docs/accuracy.md); fine keeps CFL 0.2 as
-// the study's reference does. draft's CFL could be 0.6 at its accuracy; it moves with the safety model's refit.
+// the study's reference does. draft was CFL 0.3 until the same study found CFL 0.6 as accurate (2026-11-28).
 const NamedPreset kPresets[] = {
-    {"draft", {0.008, 4, 0.3}},
+    {"draft", {0.008, 4, 0.6}},
     {"standard", {0.004, 6, 0.8}},
     {"fine", {0.002, 8, 0.2}},
 };
