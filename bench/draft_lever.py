@@ -23,7 +23,7 @@ if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import th
     sys.path[0] = str(Path(__file__).resolve().parents[1])
 from bench.harness import ROOT, arguments, dated_machine_info, docs_for, interleaved  # noqa: E402
 from bench.lib import quick  # noqa: E402
-from bench.lib.accuracy import PRESETS, PREVIOUS_DRAFT, RESULTS_JSON, Setting, draft_pick  # noqa: E402
+from bench.lib.accuracy import PREVIOUS_DRAFT, RESULTS_JSON, Setting, draft_pick, presets  # noqa: E402
 
 PAGE, RESULTS = "benchmarks/draft_lever.md", "benchmarks/draft_lever.json"
 SUITE = ROOT / "benchmarks" / "smoke.toml"
@@ -46,7 +46,7 @@ def other_draft() -> tuple[str, Setting]:
     it, else the previous draft."""
     stored = json.loads(RESULTS_JSON.read_text())
     pick = draft_pick(stored["rows"], stored["slow"]["rows"], stored["whole"]["rows"])
-    if pick and pick["key"] != PRESETS["draft"].key:
+    if pick and pick["key"] != presets()["draft"].key:
         chosen = next(r["setting"] for r in stored["rows"] if r["key"] == pick["key"])
         return "the accuracy study's draft pick", Setting(**chosen)
     return "previous draft", PREVIOUS_DRAFT
@@ -88,9 +88,9 @@ def main() -> int:
         suite = quick.suite(folder) if args.quick else SUITE
         (folder / "other").mkdir()
         role, other = other_draft()
-        if (other.dx_mm, other.particles_per_cell) != (PRESETS["draft"].dx_mm, PRESETS["draft"].particles_per_cell):
+        if (other.dx_mm, other.particles_per_cell) != (presets()["draft"].dx_mm, presets()["draft"].particles_per_cell):
             raise SystemExit(f"error: {other.label} differs from the draft preset in more than its CFL")
-        settings = {f"draft preset ({PRESETS['draft'].label})": suite,
+        settings = {f"draft preset ({presets()['draft'].label})": suite,
                     f"{role} ({other.label})": with_cfl(suite, other.cfl, folder / "other")}
         counter = iter(range(10_000))
         with ServerProcess(server_binary(), max_sessions=8, idle_timeout_s=600) as server:
@@ -136,7 +136,10 @@ def _markdown(data: dict) -> str:
     for name, r in results.items():
         lines.append(f"| {name} | {r['episodes']} | {r['successes']} | {r['wall_s']:.0f} | "
                      f"{r['episodes_per_hour']:.0f} | {r['episode_s']:.1f} |")
-    lines += ["", f"Episodes per hour, {names[1]} over the {names[0]}: **{data['episodes_per_hour_ratio']:.2f}x** "
+    ratio, faster, slower = data["episodes_per_hour_ratio"], names[1], names[0]
+    if ratio < 1.0:  # said as the faster over the slower
+        ratio, faster, slower = 1.0 / ratio, names[0], names[1]
+    lines += ["", f"Episodes per hour, the {faster} over the {slower}: **{ratio:.2f}x** "
               "(measured side by side in this run).", "",
               "Where an episode's time goes (seconds per episode, the worker's wall time; the stages are the server's "
               "own timers):", "", "| part | " + " | ".join(names) + " |", "|---|" + "---|" * len(names)]
