@@ -27,10 +27,10 @@ if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import th
     sys.path[0] = str(Path(__file__).resolve().parents[1])
 
 from bench.harness import arguments, cc_cut, dated_machine_info, docs_for, missing, pyplot, save_figure  # noqa: E402
-from bench.lib.accuracy import (ACTIVITY_RADII_MM, GRID, GUARD_CASE, GUARD_METRICS, HIGH_CFLS,  # noqa: E402
-                                MAX_CHOSEN_CFL, PRESETS, PREVIOUS_DRAFT, PREVIOUS_STANDARD, QUANTITY_NAMES, REFERENCE,
+from bench.lib.accuracy import (ACTIVITY_RADII_MM, GUARD_CASE, GUARD_METRICS, HIGH_CFLS,  # noqa: E402
+                                MAX_CHOSEN_CFL, PREVIOUS_DRAFT, PREVIOUS_STANDARD, QUANTITY_NAMES, REFERENCE,
                                 RESOLVED, SLOW_CASE, SLOW_GRID, SLOW_GRIDS, SPEED_M_S, TARGET_SPEEDUP, WHOLE_CASE,
-                                WHOLE_GRID, Setting, cases, check, draft_pick, guard_bounds, reference_record,
+                                WHOLE_GRID, Setting, cases, check, draft_pick, grid, guard_bounds, presets, reference_record,
                                 slow_case, slow_study,
                                 stored_run, stored_run_path, study, with_setting, worse_than)
 
@@ -45,7 +45,7 @@ def run_all(cc_cut: Path, runs_dir: Path, workers: int) -> tuple[dict, dict]:
     from tqdm import tqdm
     runs_dir.mkdir(parents=True, exist_ok=True)
     specs = {**cases(), **slow_case()}
-    jobs = [(name, setting) for name in cases() for setting in GRID]
+    jobs = [(name, setting) for name in cases() for setting in grid()]
     jobs += [(name, setting) for name, grid in SLOW_GRIDS.items() for setting in grid]
     # The longest (finest, slowest, largest) runs first, so the workers finish together.
     effort = {SLOW_CASE: 10.0, WHOLE_CASE: 80.0}
@@ -140,7 +140,7 @@ def _substep_finding(by_key: dict, slow_by_key: dict) -> str:
 def _findings(stored: dict) -> list[str]:
     """The page's reading of its own numbers, each taken from the stored rows."""
     by_key = {r["key"]: r for r in stored["rows"]}
-    standard, draft = by_key[PRESETS["standard"].key], by_key[PRESETS["draft"].key]
+    standard, draft = by_key[presets()["standard"].key], by_key[presets()["draft"].key]
     previous = by_key[PREVIOUS_STANDARD.key]
     pick, slow = stored["cheaper_than_standard"], stored["slow"]
     slow_by_key = {r["key"]: r for r in slow["rows"]}
@@ -151,16 +151,16 @@ def _findings(stored: dict) -> list[str]:
         f"- **The standard preset is chosen from the front**: the cheapest real-mass setting at least as accurate as "
         f"the previous standard ({PREVIOUS_STANDARD.label}) on every quantity is **{pick['label']}**, "
         f"{pick['speedup']:.1f}x less wall time over the same cuts. "
-        + ("That is the standard preset now." if pick["key"] == PRESETS["standard"].key else
-           f"**The standard preset ({PRESETS['standard'].label}) is not that setting: update "
-           "sim/world/quality_preset.cc and PRESETS here.**"),
+        + ("That is the standard preset now." if pick["key"] == presets()["standard"].key else
+           f"**The standard preset ({presets()['standard'].label}) is not that setting: update "
+           "sim/world/quality_preset.cc.**"),
         *([] if draft_choice is None else [
         f"- **The draft's substep, from the front**: the cheapest real-mass setting at least as accurate "
         f"as {PREVIOUS_DRAFT.label} (the draft preset on 2026-11-28, kept as the yardstick) on every quantity, over these cuts and on both of the robot's "
         f"slow cuts, is **{draft_choice['label']}**: {draft_choice['speedup']:.1f}x less wall time and "
         f"{draft_choice['substep_ratio']:.1f}x fewer substeps over the same cuts. "
-        + ("That is the draft preset now." if draft_choice["key"] == PRESETS["draft"].key else
-           f"**The draft preset is still {PRESETS['draft'].label}**: switching it moves every force at draft, so it "
+        + ("That is the draft preset now." if draft_choice["key"] == presets()["draft"].key else
+           f"**The draft preset is still {presets()['draft'].label}**: switching it moves every force at draft, so it "
            "goes with refitting the safety model (fitted at draft, docs/safety.md) and rerunning the oracle's "
            "verdicts; what the pick is worth in whole episodes is measured in "
            "[benchmarks/draft_lever.md](benchmarks/draft_lever.md).")]),
@@ -211,8 +211,8 @@ def _knife_speed_finding(stored: dict) -> str:
             f"the previous standard and " + ", ".join(f"{loss(slow, s):.2f} %" for s in cfls)
             + f" at 6 ppc from CFL {cfls[0].cfl:g} to {cfls[-1].cfl:g} ({loss(slow, Setting(4, 8, 0.4, 16.0)):.2f} % "
             f"at CFL 0.4 with mass x16); on the whole cucumber {loss(whole, REFERENCE):.2f} % at the reference and "
-            f"{loss(whole, PRESETS['standard']):.2f} % at the standard. Over the study's cuts the standard's knife "
-            f"speed is up to {100 * worst[PRESETS['standard'].key]:.1f} % off the reference's (the previous "
+            f"{loss(whole, presets()['standard']):.2f} % at the standard. Over the study's cuts the standard's knife "
+            f"speed is up to {100 * worst[presets()['standard'].key]:.1f} % off the reference's (the previous "
             f"standard's {100 * worst[PREVIOUS_STANDARD.key]:.1f} %).")
 
 
@@ -224,7 +224,7 @@ def _final_shape_finding(stored: dict) -> str:
     worst_label = next(r["label"] for r in stored["rows"] if r["key"] == worst_key)
     return (f"- **The pieces' final shapes agree within what the measure resolves**: after a best rigid fit of each "
             f"piece, every setting's material ends {min(shapes.values()):.2f}-{max(shapes.values()):.2f} mm RMS from "
-            f"where the reference carried it, draft ({shapes[PRESETS['draft'].key]:.2f} mm) as close as dx 3 mm "
+            f"where the reference carried it, draft ({shapes[presets()['draft'].key]:.2f} mm) as close as dx 3 mm "
             f"({shapes[Setting(3, 8, 0.2).key]:.2f} mm): no trend towards the finer grids, so what is left is the "
             f"measure's own floor between two particle samplings (each particle is compared with the reference's "
             f"nearest, moved by the rest offset, which is off where the edge crushed the material). The farthest is "
@@ -265,7 +265,7 @@ def _whole_finding(stored: dict) -> str:
     by_key = {r["key"]: r for r in whole["rows"]}
     previous = by_key[PREVIOUS_STANDARD.key]["errors"]
     misses = []
-    for setting in (PRESETS["standard"], Setting(4, 8, 0.5, 4.0), Setting(4, 8, 0.4, 16.0)):
+    for setting in (presets()["standard"], Setting(4, 8, 0.5, 4.0), Setting(4, 8, 0.4, 16.0)):
         r = by_key[setting.key]
         over = worse_than(r["errors"], previous)
         misses.append(f"{r['label']} ({r['speedup']:.1f}x) " + (
@@ -400,7 +400,7 @@ def markdown(stored: dict) -> str:
         lines.append(f"| {preset} | " + " | ".join(
             (f"{bounds[m]:.2f} mm" if m == "cut_position_mm" else f"{100 * bounds[m]:.1f} %") if m in bounds else "-"
             for m in GUARD_METRICS) + " |")
-    standard_worst = next(r for r in rows if r["key"] == PRESETS["standard"].key)["worst"]
+    standard_worst = next(r for r in rows if r["key"] == presets()["standard"].key)["worst"]
     lines += ["", "## Activity: freezing the food far from the knife", "",
               "At dx 4 mm, 8 ppc, CFL 0.4 (the standard preset when activity was studied), each radius against "
               "the same setting without activity, in this run. At 0.5 m/s nothing freezes: the work is the same, "
@@ -485,7 +485,7 @@ def main() -> int:
         stored["guard_bounds"] = guard_bounds(stored["rows"])
         docs.write_json(RESULTS, stored, __file__, indent=1)
     stored = docs.stored(RESULTS)
-    if relabel_presets(stored):  # PRESETS changed since the run (a preset re-chosen from its front)
+    if relabel_presets(stored):  # the engine's presets changed since the run (a preset re-chosen from its front)
         docs.write_json(RESULTS, stored, __file__, indent=1)
     write_outputs(docs, stored, table)
     print(f"wrote {docs.path(PAGE)} (standard-level accuracy {stored['cheaper_than_standard']['speedup']:.1f}x "
@@ -494,10 +494,10 @@ def main() -> int:
 
 
 def relabel_presets(stored: dict) -> bool:
-    """Names each row's preset as PRESETS says now and bounds the guard at them; True when anything changed."""
+    """Names each row's preset as the engine's presets are now and bounds the guard at them; True when anything changed."""
     before = json.dumps([stored["guard_bounds"], [r["preset"] for r in stored["rows"]]])
     for row in stored["rows"]:
-        row["preset"] = next((name for name, preset in PRESETS.items() if preset.key == row["key"]), None)
+        row["preset"] = next((name for name, preset in presets().items() if preset.key == row["key"]), None)
     stored["guard_bounds"] = guard_bounds(stored["rows"])
     return json.dumps([stored["guard_bounds"], [r["preset"] for r in stored["rows"]]]) != before
 

@@ -30,7 +30,7 @@ if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import th
     sys.path[0] = str(Path(__file__).resolve().parents[1])
 from bench.harness import (Docs, arguments, cc_cut, dated_machine_info, docs_for, missing, pyplot,  # noqa: E402
                            save_figure, today)
-from bench.lib.accuracy import PRESETS  # noqa: E402
+from bench.lib.accuracy import presets  # noqa: E402
 from bench.lib.cc_cut import WINDOW_S, run  # noqa: E402
 from bench.physics_validation import render_doc  # noqa: E402
 
@@ -55,7 +55,6 @@ REFERENCES = (
 # The standard preset's resolution when the presets' toughness was calibrated (2026-11-25); the accuracy
 # study has raised the standard's CFL since (docs/accuracy.md), and --check-preset cuts the specimens with it.
 CALIBRATION_MPM = {"dx": 0.004, "particles_per_cell": 8, "cfl": 0.2}
-STANDARD_SETTING = PRESETS["standard"].label  # what --check-preset runs at, for the page
 
 
 def scene(reference: dict, speed_m_s: float, toughness_j_m2: float, quality: str = "standard",
@@ -91,7 +90,7 @@ def check_preset(cc_cut: Path, docs: Docs) -> int:
         for reference in stored["references"]:
             result = run(cc_cut, scene(reference, stored["speed_m_s"], reference["fitted_toughness_j_m2"]), Path(tmp))
             q = plateau(result)
-            reference["current_standard"] = {**q, "wall_s": result["wall_s"], "setting": STANDARD_SETTING,
+            reference["current_standard"] = {**q, "wall_s": result["wall_s"], "setting": presets(cc_cut)["standard"].label,
                                               "in_band": reference["band_n"][0] <= q["blade_n"] <= reference["band_n"][1],
                                               "date": today()}
             print(f"{reference['name']} at the standard preset: plateau {q['blade_n']:.1f} N", flush=True)

@@ -11,9 +11,7 @@
 #include "server/wire/observation.h"
 #include "server/wire/safety.h"
 #include "server/wire/scene.h"
-#include "sim/mpm/solver_config.h"
 #include "sim/world/controller.h"
-#include "sim/world/quality_preset.h"
 #include "sim/world/scene_budget.h"
 #include "sim/world/snapshot.h"
 #include "sim/world/step.h"
@@ -74,15 +72,7 @@ grpc::Status SimulatorService::GetServerInfo(grpc::ServerContext* context, const
   limits->set_step_threads(cpu_share_->shared() ? "shared" : "model");
   limits->set_max_connections(connections_.max_connections);
   limits->set_max_connections_per_address(connections_.max_per_address);
-  limits->set_max_mass_scaling(mpm::kMaxMassScaling);
-  limits->set_min_activity_radius_cells(mpm::kMinActivityRadiusCells);
-  for (const std::string& name : QualityPresetNames()) {
-    const MpmResolution resolution = ResolveMpmResolution(name, std::nullopt, {});
-    v1::QualityPreset* preset = info->add_quality_presets();
-    preset->set_name(name);
-    MpmResolutionToWire(resolution, preset->mutable_mpm());
-    ExpectedAccuracyToWire(resolution, preset->mutable_expected());
-  }
+  ResolutionCatalogueToWire(info);
   return grpc::Status::OK;
 }
 

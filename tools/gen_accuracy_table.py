@@ -18,7 +18,7 @@ ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:  # the accuracy study's library is bench/lib/accuracy.py in this checkout
     sys.path.insert(0, str(ROOT))
 
-from bench.lib.accuracy import PRESETS, REFERENCE, RESULTS_JSON, SPEED_M_S, choosable  # noqa: E402
+from bench.lib.accuracy import REFERENCE, RESULTS_JSON, SPEED_M_S, choosable, presets  # noqa: E402
 
 TABLE_CC = ROOT / "sim" / "world" / "measured_accuracy_table.cc"
 
@@ -26,7 +26,7 @@ TABLE_CC = ROOT / "sim" / "world" / "measured_accuracy_table.cc"
 def cxx_table(stored: dict) -> str:
     """sim/world/measured_accuracy_table.cc: every measured setting but the reference, for the server's presets
     and accuracy targets (settings that cut into a different number of pieces than the reference are left out)."""
-    standard = next(r for r in stored["rows"] if r["key"] == PRESETS["standard"].key)
+    standard = next(r for r in stored["rows"] if r["key"] == presets()["standard"].key)
     entries = []
     for r in sorted(stored["rows"], key=lambda r: r["wall_s"]):
         w, s = r["worst"], r["setting"]

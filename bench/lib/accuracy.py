@@ -6,6 +6,7 @@ bench/seed_spread.py, cut_episode_report.py, wake_margin_report.py and lsdyna_ca
 """
 from __future__ import annotations
 
+import functools
 import json
 import tempfile
 from dataclasses import asdict, dataclass
@@ -14,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from bench.harness.paths import DOCS
-from bench.lib.cc_cut import run, scene
+from bench.lib.cc_cut import engine_presets, run, scene
 
 RESULTS_JSON = DOCS / "benchmarks" / "accuracy_cost.json"
 SPEED_M_S = 0.5
@@ -44,12 +45,9 @@ class Setting:
         return (self.dx_mm, self.particles_per_cell, self.cfl, self.mass_scaling, self.activity_mm)
 
 
-# The presets as sim/world/quality_preset.cc defines them (fine, dx 2 mm, takes about 14x the standard's
-# time per cut and is left out); the reference is the finest run the study affords. The standard preset
-# was dx 4 mm, 8 ppc, CFL 0.2 until this study chose it from the front (CFL 0.4 on 2026-11-26, 6 ppc at CFL 0.5
-# and then at CFL 0.8 on 2026-11-27); that setting stays in the grid as the yardstick the presets and the 5x target
-# are measured against.
-PRESETS = {"draft": Setting(8, 4, 0.6), "standard": Setting(4, 6, 0.8)}
+# The standard preset was dx 4 mm, 8 ppc, CFL 0.2 until this study chose it from the front (CFL 0.4 on 2026-11-26,
+# 6 ppc at CFL 0.5 and then at CFL 0.8 on 2026-11-27); that setting stays in the grid as the yardstick the presets
+# and the 5x target are measured against.
 PREVIOUS_STANDARD = Setting(4, 8, 0.2)
 # The draft preset was dx 8 mm, 4 ppc, CFL 0.3 until the study chose its CFL from the front (2026-11-28); that
 # setting stays in the grid as the draft's yardstick, and the draft's substep is studied up to the stability edge.
@@ -63,8 +61,24 @@ ACTIVITY_RADII_MM = (20.0, 32.0)
 # not run, and choose among settings up to MAX_CHOSEN_CFL.
 HIGH_CFLS = (0.6, 0.8, 1.0)
 MAX_CHOSEN_CFL = 0.8
+
+
+@functools.cache
+def presets(cc_cut: Path | None = None) -> dict[str, Setting]:
+    """The engine's draft and standard presets (cc-cut --presets; sim/world/quality_preset.cc is their one
+    source). fine (dx 2 mm) takes about 14x the standard's time per cut and is left out; the reference is the
+    finest run the study affords."""
+    return {p["name"]: Setting(round(p["mpm"]["dx"] * 1e3, 6), p["mpm"]["particles_per_cell"], p["mpm"]["cfl"])
+            for p in engine_presets(cc_cut)["quality_presets"] if p["name"] in ("draft", "standard")}
+
+
+def grid() -> list[Setting]:
+    """The study's settings: the presets and _KNOBS."""
+    return sorted({*presets().values(), *_KNOBS}, key=lambda s: s.order)
+
+
 # One knob at a time around the previous standard preset, then the levers together.
-GRID = sorted({*PRESETS.values(), PREVIOUS_STANDARD, PREVIOUS_DRAFT, REFERENCE,
+_KNOBS = sorted({PREVIOUS_STANDARD, PREVIOUS_DRAFT, REFERENCE,
                *(Setting(8, 4, cfl) for cfl in DRAFT_CFLS),
                *(Setting(dx, 8, 0.2) for dx in (8, 6, 5, 3)),
                *(Setting(4, 4, cfl) for cfl in (0.2, 0.4)),
@@ -287,7 +301,7 @@ def standard_verdict(stored: dict | None = None) -> str:
     the pages that time the two (from the stored study unless given)."""
     stored = stored or json.loads(RESULTS_JSON.read_text())
     by_key = {r["key"]: r for r in stored["rows"]}
-    standard, previous = by_key[PRESETS["standard"].key]["worst"], by_key[PREVIOUS_STANDARD.key]["worst"]
+    standard, previous = by_key[presets()["standard"].key]["worst"], by_key[PREVIOUS_STANDARD.key]["worst"]
     over = worse_than(standard, previous)
     if standard["piece_count"] != 0:
         return "not as accurate: it does not cut every food into the reference's pieces"
@@ -298,7 +312,7 @@ def standard_verdict(stored: dict | None = None) -> str:
 def study(results: dict) -> dict:
     """Per setting: each cut's error against the reference and cost, and the worst error over the cuts."""
     rows = []
-    for setting in GRID:
+    for setting in grid():
         per_case = {}
         for name, runs in results.items():
             r, ref = runs[setting.key], runs[REFERENCE.key]
@@ -316,7 +330,7 @@ def study(results: dict) -> dict:
         worst["piece_count"] = max(abs(c["errors"]["piece_count"]) for c in per_case.values())
         wall = sum(c["wall_s"] for c in per_case.values())
         rows.append({"setting": asdict(setting), "key": setting.key, "label": setting.label,
-                     "preset": next((n for n, p in PRESETS.items() if p == setting), None),
+                     "preset": next((n for n, p in presets().items() if p == setting), None),
                      "wall_s": wall, "wall_per_sim_s": wall / sum(c["sim_time_s"] for c in per_case.values()),
                      "particles": sum(c["particles"] for c in per_case.values()),
                      "substeps": sum(c["substeps"] for c in per_case.values()),
@@ -328,7 +342,7 @@ def study(results: dict) -> dict:
                      "worst": worst, "cases": per_case})
     refinement = {}
     for name, runs in results.items():
-        by_dx = {s.dx_mm: runs[s.key] for s in GRID
+        by_dx = {s.dx_mm: runs[s.key] for s in grid()
                  if (s.particles_per_cell, s.cfl, s.mass_scaling, s.activity_mm) == (8, 0.2, 1.0, 0.0)}
         refinement[name] = {"peak_force": richardson({dx: r["peak_blade_n"] for dx, r in by_dx.items()}),
                             "peak_force_by_dx": {f"{dx:g}": r["peak_blade_n"] for dx, r in sorted(by_dx.items())}}
@@ -392,16 +406,16 @@ def guard_bounds(rows: list[dict]) -> dict:
     return bounds
 
 
-def check(cc_cut: Path, presets: list[str] | None = None) -> int:
-    """Cut the guard case at each preset (or these); 1 when an error exceeds its documented bound."""
+def check(cc_cut: Path, names: list[str] | None = None) -> int:
+    """Cut the guard case at each preset (or those named); 1 when an error exceeds its documented bound."""
     stored = json.loads(RESULTS_JSON.read_text())
     reference = stored["references"][GUARD_CASE]
     failed = False
     for preset, bounds in stored["guard_bounds"].items():
-        if presets is not None and preset not in presets:
+        if names is not None and preset not in names:
             continue
         with tempfile.TemporaryDirectory() as tmp:
-            r = run(cc_cut, with_setting(cases()[GUARD_CASE], PRESETS[preset]), Path(tmp))
+            r = run(cc_cut, with_setting(cases()[GUARD_CASE], presets(cc_cut)[preset]), Path(tmp))
         found = errors(r, reference)
         if found["piece_count"] != 0:
             print(f"{preset}: {len(r['piece_volumes_m3'])} pieces, the reference has "

@@ -6,6 +6,7 @@ Each run is one cc-cut process on one thread; the windowed force is the blade im
 from __future__ import annotations
 
 import csv
+import functools
 import json
 import math
 import subprocess
@@ -20,6 +21,21 @@ SCALE = 0.6  # small foods keep the fine runs to seconds
 # speed resistance summed over that step (sim/world/food_step.cc).
 ROBOT_PHYSICS_STEP_S = 0.002
 CUTTING = {"mpm": True, "plasticity": True, "damage": True, "friction": True, "force_sensing": True}
+
+
+@functools.cache
+def engine_presets(cc_cut: Path | None = None) -> dict:
+    """The engine's quality presets and MPM bounds as `cc-cut --presets` prints them (GetServerInfo's
+    quality_presets, max_mass_scaling and min_activity_radius_cells): sim/world/quality_preset.cc is their
+    one source, so the benchmarks read them instead of keeping a copy."""
+    from bench.harness.paths import cc_cut as built_cc_cut
+    binary = cc_cut or built_cc_cut()
+    try:
+        done = subprocess.run([str(binary), "--presets"], capture_output=True, text=True, check=True)
+    except (OSError, subprocess.CalledProcessError) as err:
+        raise SystemExit(f"error: cannot read the engine's presets from {binary} --presets ({err}); build it with "
+                         "scripts/build.sh or set $CULINARYCUT_BUILD") from None
+    return json.loads(done.stdout)
 
 
 def scene(food: str, dx_m: float, speed_m_s: float, overrides: dict | None = None) -> dict:

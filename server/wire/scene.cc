@@ -4,7 +4,9 @@
 
 #include "server/wire/camera.h"
 #include "server/wire/values.h"
+#include "sim/mpm/solver_config.h"
 #include "sim/world/measured_accuracy.h"
+#include "sim/world/quality_preset.h"
 
 namespace culinarycut::server {
 namespace {
@@ -109,6 +111,18 @@ void ExpectedAccuracyToWire(const MpmResolution& resolution, v1::ExpectedAccurac
   wire->set_force_curve_error(measured->force_curve_error);
   wire->set_cut_position_error_mm(measured->cut_position_error_mm);
   wire->set_relative_cost(measured->relative_cost);
+}
+
+void ResolutionCatalogueToWire(v1::ServerInfo* info) {
+  info->mutable_limits()->set_max_mass_scaling(mpm::kMaxMassScaling);
+  info->mutable_limits()->set_min_activity_radius_cells(mpm::kMinActivityRadiusCells);
+  for (const std::string& name : QualityPresetNames()) {
+    const MpmResolution resolution = ResolveMpmResolution(name, std::nullopt, {});
+    v1::QualityPreset* preset = info->add_quality_presets();
+    preset->set_name(name);
+    MpmResolutionToWire(resolution, preset->mutable_mpm());
+    ExpectedAccuracyToWire(resolution, preset->mutable_expected());
+  }
 }
 
 SceneConfig SceneFromWire(const v1::SceneSpec& wire) {

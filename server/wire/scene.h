@@ -18,5 +18,8 @@ void ResolvedFoodToWire(const FoodModel& food, v1::SceneSpec* wire);
 void MpmResolutionToWire(const MpmResolution& resolution, v1::MpmSettings* wire);
 // What the accuracy study measured for this resolution (measured = false when it did not run it).
 void ExpectedAccuracyToWire(const MpmResolution& resolution, v1::ExpectedAccuracy* wire);
+// The engine's quality presets (each with what the study measured for it) and the MPM bounds a scene
+// must keep (mass-scaling cap, activity radius in cells): what GetServerInfo and `cc-cut --presets` publish.
+void ResolutionCatalogueToWire(v1::ServerInfo* info);
 
 }  // namespace culinarycut::server

@@ -71,6 +71,18 @@ def test_a_model_server_that_does_not_answer_stops_the_run_before_its_first_epis
     assert rows(out) == []
 
 
+def test_a_quality_the_server_does_not_publish_stops_the_run_before_its_first_episode(address, tmp_path):
+    suite = tiny_suite(tmp_path, 1)
+    suite.write_text(suite.read_text().replace('quality = "draft"', 'quality = "ultra"'))
+    out = tmp_path / "run"
+    done = bench("run", str(suite), "--server", address, "--out", str(out), "--no-progress", check=False)
+    assert done.returncode == 1, done.stderr
+    (line,) = error_lines(done.stderr)  # one line, no traceback; the names come from the server
+    assert line == (f"error: suite tiny, task cucumber/normal/middle: quality 'ultra' is not a preset of server "
+                    f"{address} (it has draft, standard, fine)")
+    assert rows(out) == []
+
+
 def test_policy_errors_in_a_row_stop_the_run_and_say_how_to_rerun_them(address, tmp_path):
     out = tmp_path / "run"
     done = bench("run", str(tiny_suite(tmp_path, 4)), "--policy", "bench_policies:RaisingPolicy",

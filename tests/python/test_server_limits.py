@@ -3,12 +3,15 @@ CreateSession with each scene's estimate, refused with RESOURCE_EXHAUSTED naming
 threads that serve calls."""
 from __future__ import annotations
 
+import json
 import os
+import subprocess
 import time
 from pathlib import Path
 
 import grpc
 import pytest
+from google.protobuf import json_format
 
 from culinarycut import Client
 from culinarycut.errors import ResourceExhausted
@@ -25,6 +28,19 @@ def test_limits_are_published(client):
     # The connection gate's caps as fitted to the descriptor limit, and the scene's MPM bounds.
     assert 0 < limits.max_connections_per_address <= limits.max_connections <= 1024
     assert limits.max_mass_scaling == 1000.0 and limits.min_activity_radius_cells == 5.0
+
+
+def test_cc_cut_prints_the_presets_and_bounds_the_server_publishes(client):
+    from culinarycut.safety.binary import cc_cut_binary
+    printed = json.loads(subprocess.run([str(cc_cut_binary()), "--presets"], capture_output=True, text=True,
+                                        check=True).stdout)
+    info = client.server_info()
+    published = [json_format.MessageToDict(p, preserving_proto_field_name=True, including_default_value_fields=True)
+                 for p in info.quality_presets]
+    assert [p["name"] for p in printed["quality_presets"]] == ["draft", "standard", "fine"]
+    assert printed["quality_presets"] == published  # each preset's resolution and measured accuracy, NaN included
+    assert (printed["max_mass_scaling"], printed["min_activity_radius_cells"]) == \
+        (info.limits.max_mass_scaling, info.limits.min_activity_radius_cells)
 
 
 def test_a_unix_socket_has_no_connection_caps(tmp_path):

@@ -1,6 +1,7 @@
 // cc-cut SCENE.json --out DIR [--threads N] [--particles] [--quiet]: runs a knife-cut scene, writes
 // DIR/steps.csv (one row per substep), DIR/summary.json and with --particles DIR/particles.csv (every
 // particle's rest and final position and piece), and prints progress and a summary.
+// cc-cut --presets: prints the engine's quality presets and MPM bounds as JSON (GetServerInfo's fields).
 // Exit codes: 0 done, 2 bad arguments, scene file or output directory, 1 the simulation failed.
 #include <chrono>
 #include <cstdio>
@@ -12,10 +13,12 @@
 
 #include <CLI/CLI.hpp>
 
+#include "server/wire/scene.h"
 #include "tools/cc_cut/cut_model.h"
 #include "tools/cc_cut/cut_run.h"
 #include "tools/cc_cut/cut_scene.h"
 #include "tools/cc_cut/outputs.h"
+#include "tools/cc_cut/scene_spec_json.h"
 
 namespace {
 
@@ -31,6 +34,18 @@ constexpr double kProgressPeriodS = 0.5;
 int Fail(const std::string& message) {
   std::cerr << "cc-cut: " << message << "\n";
   return kBadInput;
+}
+
+// The presets and bounds as the server publishes them, so that scripts read them from the engine.
+void PrintPresets() {
+  culinarycut::v1::ServerInfo info;
+  culinarycut::server::ResolutionCatalogueToWire(&info);
+  const nlohmann::json all = culinarycut::cc_cut::MessageToJson(info);
+  const nlohmann::json out = {
+      {"quality_presets", all["quality_presets"]},
+      {"max_mass_scaling", all["limits"]["max_mass_scaling"]},
+      {"min_activity_radius_cells", all["limits"]["min_activity_radius_cells"]}};
+  std::cout << out.dump(1) << "\n";
 }
 
 bool ReadFile(const std::string& path, std::string* text) {
@@ -51,8 +66,10 @@ int main(int argc, char** argv) {
   int threads = 0;
   bool quiet = false;
   bool write_particles = false;
-  app.add_option("scene", scene_path, "scene file (JSON; see tools/cc_cut/README.md)")->required();
-  app.add_option("--out", out_dir, "output directory (created if missing)")->required();
+  bool presets = false;
+  app.add_option("scene", scene_path, "scene file (JSON; see tools/cc_cut/README.md)");
+  app.add_option("--out", out_dir, "output directory (created if missing)");
+  app.add_flag("--presets", presets, "print the engine's quality presets and MPM bounds (JSON) and exit");
   app.add_option("--threads", threads, "OpenMP threads (overrides solver.threads)")
       ->check(CLI::Range(1, 1024));
   app.add_flag("--particles", write_particles, "also write particles.csv: each particle's rest and final position and piece");
@@ -65,6 +82,11 @@ int main(int argc, char** argv) {
     app.exit(error);
     return kBadInput;
   }
+  if (presets) {
+    PrintPresets();
+    return 0;
+  }
+  if (scene_path.empty() || out_dir.empty()) return Fail("a scene file and --out are required (or --presets); see --help");
 
   std::string text;
   if (!ReadFile(scene_path, &text)) return Fail("cannot read scene file '" + scene_path + "'");

@@ -128,14 +128,18 @@ v1::SceneSpec SceneSpecFromJson(const json& value, const std::string& path) {
   return spec;
 }
 
-json SceneSpecToJson(const v1::SceneSpec& spec) {
+json MessageToJson(const google::protobuf::Message& message) {
   google::protobuf::util::JsonPrintOptions options;
   options.preserve_proto_field_names = true;
   options.always_print_primitive_fields = true;
   std::string text;
-  const auto status = google::protobuf::util::MessageToJsonString(spec, &text, options);
-  if (!status.ok()) throw std::runtime_error("cannot write the scene as JSON: " + std::string(status.message()));
+  const auto status = google::protobuf::util::MessageToJsonString(message, &text, options);
+  if (!status.ok()) {
+    throw std::runtime_error("cannot write " + message.GetTypeName() + " as JSON: " + std::string(status.message()));
+  }
   return json::parse(text);
 }
+
+json SceneSpecToJson(const v1::SceneSpec& spec) { return MessageToJson(spec); }
 
 }  // namespace culinarycut::cc_cut

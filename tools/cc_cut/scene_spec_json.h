@@ -17,5 +17,7 @@ v1::SceneSpec SceneSpecFromJson(const nlohmann::json& value, const std::string& 
 
 // With proto field names and every scalar written out, zeros included.
 nlohmann::json SceneSpecToJson(const v1::SceneSpec& spec);
+// Any message so, e.g. the ServerInfo fields `cc-cut --presets` prints.
+nlohmann::json MessageToJson(const google::protobuf::Message& message);
 
 }  // namespace culinarycut::cc_cut

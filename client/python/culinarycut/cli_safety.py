@@ -30,7 +30,7 @@ def _flat(values) -> tuple:
 
 
 def cmd_dataset(args) -> int:
-    from culinarycut.safety.binary import cc_cut_binary
+    from culinarycut.safety.binary import cc_cut_binary, engine_qualities
     from culinarycut.safety.dataset import DatasetMismatch, run_sweep
     from culinarycut.safety.sweep import Sweep, validate
     defaults = Sweep()
@@ -42,13 +42,13 @@ def cmd_dataset(args) -> int:
                   yield_stress_kpa=_flat(args.yield_kpa) if args.yield_kpa else defaults.yield_stress_kpa,
                   fracture_toughness_j_m2=_flat(args.toughness) if args.toughness else defaults.fracture_toughness_j_m2,
                   quality=args.quality)
-    validate(sweep)
     if args.workers < 1:
         raise ValueError(f"--workers: must be at least 1, got {args.workers}")
     cc_cut = Path(args.cc_cut) if args.cc_cut else cc_cut_binary()
     if not (cc_cut.is_file() and os.access(cc_cut, os.X_OK)):
         raise ValueError(f"--cc-cut: no executable cc-cut at {cc_cut}; build it (scripts/build.sh), pass --cc-cut "
                          "or set CULINARYCUT_CC_CUT")
+    validate(sweep, engine_qualities(cc_cut))
     try:
         result = run_sweep(sweep, Path(args.out), cc_cut, workers=args.workers, progress=not args.no_progress)
     except DatasetMismatch as err:

@@ -1,5 +1,6 @@
-"""Checks before a run's first episode: every server answers (and says its version), every task can be
-said in its language split, and the policy is ready (a remote model's server answers its handshake)."""
+"""Checks before a run's first episode: every server answers (and says its version), every task's quality is a
+preset the servers have, every task can be said in its language split, and the policy is ready (a remote model's
+server answers its handshake)."""
 from __future__ import annotations
 
 from culinarycut.bench.run_errors import RunError
@@ -43,6 +44,17 @@ def auto_workers(infos: dict) -> int:
         free_sessions = max(1, limits.max_sessions - limits.active_sessions)
         total += max(1, min(cores, free_sessions))
     return max(1, min(MAX_AUTO_WORKERS, total))
+
+
+def check_qualities(infos: dict, suite: Suite) -> None:
+    """Every task's quality is a preset of every server (the engine is the presets' one source, so the suite
+    schema keeps no copy of their names)."""
+    for server, info in infos.items():
+        names = [preset.name for preset in info.quality_presets]
+        for task in suite.tasks:
+            if names and task.quality not in names:  # a server too old to publish its presets: it refuses the scene
+                raise RunError(f"suite {suite.name}, task {task.name}: quality {task.quality!r} is not a preset of "
+                               f"server {server} (it has {', '.join(names)})")
 
 
 def check_tasks(server: str, suite: Suite) -> None:

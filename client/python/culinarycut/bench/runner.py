@@ -16,7 +16,8 @@ from culinarycut.bench.dispatch import AllServersLost, WorkerResult, run_on_work
 from culinarycut.bench.episode import EpisodeOptions
 from culinarycut.bench.episode_scene import suite_episodes
 from culinarycut.bench.policy_error_streak import DEFAULT_MAX_CONSECUTIVE_POLICY_ERRORS, PolicyErrorStreak
-from culinarycut.bench.preflight import auto_workers, check_policy_ready, check_tasks, server_infos, server_versions
+from culinarycut.bench.preflight import (auto_workers, check_policy_ready, check_qualities, check_tasks, server_infos,
+                                         server_versions)
 from culinarycut.bench.run_errors import BadRunInput, RunError
 from culinarycut.bench.storage_faults import storage_faults
 from culinarycut.bench.store import DATABASE_NAME, ResultStore
@@ -171,6 +172,7 @@ def run_suite(config: RunConfig) -> RunSummary:
             retry_keys = store.error_keys() if config.retry_errors else set()
             done_keys = store.done_keys() - retry_keys
             successes = len(store.episodes("outcome = 'success'"))
+        check_qualities(infos, config.suite)
         check_tasks(config.servers[0], config.suite)
         pending = [e for e in episodes if e.key not in done_keys]
         already = len(episodes) - len(pending)

@@ -8,7 +8,6 @@ import numpy as np
 
 # The engine's foods (sim/mpm/food_shapes.cc); cc-cut refuses any other.
 FOODS = ("apple", "banana", "cucumber", "melon", "orange", "peach", "strawberry")
-QUALITIES = ("draft", "standard", "fine")
 MAX_SPEED_M_S = 20.0  # cc-cut's knife.descent_speed_m_s range is (0, 20]
 
 
@@ -74,8 +73,8 @@ class Sweep:
                 "knife": {**self.knife, "descent_speed_m_s": sample.speed_m_s}}
 
 
-def validate(sweep: Sweep) -> None:
-    """Raise ValueError naming the command-line option of the first bad value."""
+def validate(sweep: Sweep, qualities: list[str]) -> None:
+    """Raise ValueError naming the command-line option of the first bad value; `qualities`: the engine's presets."""
     def check(option: str, values, ok, rule: str) -> None:
         if not values:
             raise ValueError(f"{option}: needs at least one value")
@@ -88,5 +87,5 @@ def validate(sweep: Sweep) -> None:
     check("--youngs-mpa", sweep.youngs_modulus_mpa, lambda e: 0 < e <= 1000, "in (0, 1000] MPa")
     check("--yield-kpa", sweep.yield_stress_kpa, lambda y: 0 <= y <= 1e5, "in [0, 1e5] kPa")
     check("--toughness", sweep.fracture_toughness_j_m2, lambda g: 0 <= g <= 1e4, "in [0, 1e4] J/m^2")
-    if sweep.quality not in QUALITIES:
-        raise ValueError(f"--quality: {sweep.quality!r} is not one of {', '.join(QUALITIES)}")
+    if sweep.quality not in qualities:
+        raise ValueError(f"--quality: {sweep.quality!r} is not one of {', '.join(qualities)}")
