@@ -10,11 +10,8 @@ the policy, the harness). Writes docs/benchmarks/draft_lever.{md,json}.
 from __future__ import annotations
 
 import json
-import sqlite3
-import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 from culinarycut.launch import ServerProcess, server_binary
@@ -24,12 +21,11 @@ if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import th
 from bench.harness import ROOT, arguments, dated_machine_info, docs_for, interleaved  # noqa: E402
 from bench.lib import quick  # noqa: E402
 from bench.lib.accuracy import PREVIOUS_DRAFT, RESULTS_JSON, Setting, draft_pick, presets  # noqa: E402
+from bench.lib.suite_runs import per_episode_parts, run_suite  # noqa: E402
 
 PAGE, RESULTS = "benchmarks/draft_lever.md", "benchmarks/draft_lever.json"
 SUITE = ROOT / "benchmarks" / "smoke.toml"
 WORKERS = 2
-# The server's stages as the rows store them (StepInfo.stage_wall_time_ms summed by the session), in page order.
-STAGES = ("mpm", "physics", "render", "rollback", "topology", "task", "control", "safety")
 
 
 def with_cfl(suite: Path, cfl: float, folder: Path) -> Path:
@@ -54,27 +50,7 @@ def other_draft() -> tuple[str, Setting]:
 
 def run_once(suite: Path, server: ServerProcess, out: Path) -> dict:
     """One `culinarycut bench run` into a fresh folder: its wall time and per-episode sums from the rows."""
-    command = [sys.executable, "-m", "culinarycut", "bench", "run", str(suite), "--workers", str(WORKERS),
-               "--server", server.address, "--out", str(out), "--no-progress"]
-    started = time.perf_counter()
-    done = subprocess.run(command, capture_output=True, text=True)
-    wall_s = time.perf_counter() - started
-    if done.returncode != 0:
-        raise RuntimeError(f"{' '.join(command)} failed:\n{done.stdout[-3000:]}\n{done.stderr[-3000:]}")
-    db = sqlite3.connect(out / "results.sqlite")
-    rows = db.execute("SELECT outcome, wall_s, env_wall_s, policy_wall_s, stage_wall_s, resolved_scene "
-                      "FROM episodes").fetchall()
-    db.close()
-    stages = {stage: 0.0 for stage in STAGES}
-    for row in rows:
-        for stage, seconds in json.loads(row[4] or "{}").items():
-            stages[stage] = stages.get(stage, 0.0) + seconds
-    episode_s = sum(r[1] for r in rows)
-    server_s, policy_s = sum(r[2] for r in rows), sum(r[3] for r in rows)
-    cfls = {json.loads(r[5])["mpm"]["cfl"] for r in rows}
-    return {"wall_s": wall_s, "episodes": len(rows), "successes": sum(r[0] == "success" for r in rows),
-            "episode_s": episode_s, "server_call_s": server_s, "policy_s": policy_s,
-            "harness_s": episode_s - server_s - policy_s, "stages_s": stages, "resolved_cfl": sorted(cfls)}
+    return run_suite(suite, [server.address], WORKERS, out)
 
 
 def main() -> int:
@@ -112,14 +88,10 @@ def _totals(runs: list[dict]) -> dict:
     """The rounds of one setting summed: episodes per hour over all of them, seconds per episode by stage."""
     episodes = sum(r["episodes"] for r in runs)
     wall_s = sum(r["wall_s"] for r in runs)
-    per_episode = {stage: sum(r["stages_s"].get(stage, 0.0) for r in runs) / episodes for stage in STAGES}
-    server_other = sum(r["server_call_s"] for r in runs) / episodes - sum(per_episode.values())
     return {"episodes": episodes, "successes": sum(r["successes"] for r in runs), "wall_s": wall_s,
             "episodes_per_hour": 3600.0 * episodes / wall_s,
             "episode_s": sum(r["episode_s"] for r in runs) / episodes,
-            "per_episode_s": {**per_episode, "server, outside the stages (scene set-up, reset, observations, the wire)": server_other,
-                              "policy": sum(r["policy_s"] for r in runs) / episodes,
-                              "harness": sum(r["harness_s"] for r in runs) / episodes},
+            "per_episode_s": per_episode_parts(runs),
             "resolved_cfl": sorted({c for r in runs for c in r["resolved_cfl"]}), "runs": runs}
 
 

@@ -79,15 +79,15 @@ def grid() -> list[Setting]:
 
 # One knob at a time around the previous standard preset, then the levers together.
 _KNOBS = sorted({PREVIOUS_STANDARD, PREVIOUS_DRAFT, REFERENCE,
-               *(Setting(8, 4, cfl) for cfl in DRAFT_CFLS),
-               *(Setting(dx, 8, 0.2) for dx in (8, 6, 5, 3)),
-               *(Setting(4, 4, cfl) for cfl in (0.2, 0.4)),
-               *(Setting(4, 8, cfl) for cfl in (0.3, 0.4, 0.5)),
-               *(Setting(4, ppc, 0.5) for ppc in (5, 6)), *(Setting(4, 6, cfl) for cfl in HIGH_CFLS),
-               *(Setting(4, 8, 0.2, s) for s in (4, 16, 64)),
-               Setting(4, 8, 0.3, 16), Setting(3, 8, 0.3, 16),
-               *(Setting(4, 8, 0.4, 1.0, radius) for radius in ACTIVITY_RADII_MM)},
-              key=lambda s: s.order)
+                 *(Setting(8, 4, cfl) for cfl in DRAFT_CFLS),
+                 *(Setting(dx, 8, 0.2) for dx in (8, 6, 5, 3)),
+                 *(Setting(4, 4, cfl) for cfl in (0.2, 0.4)),
+                 *(Setting(4, 8, cfl) for cfl in (0.3, 0.4, 0.5)),
+                 *(Setting(4, ppc, 0.5) for ppc in (5, 6)), *(Setting(4, 6, cfl) for cfl in HIGH_CFLS),
+                 *(Setting(4, 8, 0.2, s) for s in (4, 16, 64)),
+                 Setting(4, 8, 0.3, 16), Setting(3, 8, 0.3, 16),
+                 *(Setting(4, 8, 0.4, 1.0, radius) for radius in ACTIVITY_RADII_MM)},
+                key=lambda s: s.order)
 
 
 def cases() -> dict[str, dict]:
