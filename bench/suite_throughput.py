@@ -14,7 +14,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from culinarycut.launch import ServerProcess, server_binary
+from culinarycut.launch import ServerProcess, cores_per_local_server, server_binary
 
 if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
     sys.path[0] = str(Path(__file__).resolve().parents[1])
@@ -77,25 +77,37 @@ def main() -> int:
         scaling = SCALING[:1] if args.quick else SCALING
         smoke = str(quick.suite(folder)) if args.quick else "smoke"
         image_px = quick.IMAGE_SIZE if args.quick else IMAGE_PX
-        servers = [ServerProcess(args.server_binary, max_sessions=8, idle_timeout_s=600)
-                   for _ in range(max(n for n, _ in scaling))]
+        def start(count: int) -> list[ServerProcess]:
+            """`count` servers sharing the machine's cores (each told its part, --step-cores)."""
+            cores = cores_per_local_server(count)
+            return [ServerProcess(args.server_binary, max_sessions=8, idle_timeout_s=600, step_cores=cores)
+                    for _ in range(count)]
+
+        def stop(servers: list[ServerProcess]) -> None:
+            for server in servers:
+                server.stop()
+
+        servers = start(1)
         try:
             for index, (label, suite, extra, cameras) in enumerate(workloads):
                 if cameras:
                     source = Path(suite) if suite.endswith(".toml") else ROOT / "benchmarks" / f"{suite}.toml"
                     (folder / f"cameras-{index}").mkdir()
                     suite = str(with_cameras(source, folder / f"cameras-{index}", image_px))
-                result = run_suite(suite, extra, servers[:1], 2, folder / f"throughput-{index}")
+                result = run_suite(suite, extra, servers, 2, folder / f"throughput-{index}")
                 results.append({"kind": "throughput", "label": label, "cameras": len(CAMERAS) if cameras else 0,
                                 "image_px": image_px if cameras else 0, **result})
                 print(json.dumps(results[-1]), flush=True)
-            for count, workers in scaling:
-                result = run_suite(smoke, [], servers[:count], workers, folder / f"smoke-{count}-{workers}")
-                results.append({"kind": "scaling", "label": f"smoke, {count} server(s), {workers} worker(s)", **result})
-                print(json.dumps(results[-1]), flush=True)
         finally:
-            for server in servers:
-                server.stop()
+            stop(servers)
+        for count, workers in scaling:
+            servers = start(count)
+            try:
+                result = run_suite(smoke, [], servers, workers, folder / f"smoke-{count}-{workers}")
+            finally:
+                stop(servers)
+            results.append({"kind": "scaling", "label": f"smoke, {count} server(s), {workers} worker(s)", **result})
+            print(json.dumps(results[-1]), flush=True)
     info = machine_info()
     machine = {"cpu_count": info["cores"], "platform": info["platform"], "processor": info["cpu_model"],
                "date": today()}  # the keys this page has always stored
@@ -145,7 +157,9 @@ def _markdown(machine: dict, results: list[dict]) -> str:
               ", ".join(f"{r['servers']} server(s) x {r['workers']} worker(s) {base / r['run_wall_s']:.2f}x"
                         for r in scaling) + ". "
               f"The episodes are MPM-bound on the servers, so the speed-up stops at the machine's "
-              f"{machine['cpu_count']} cores; the harness itself stays well under 5 % of episode time.", "",
+              f"{machine['cpu_count']} cores; the harness itself stays well under 5 % of episode time. Servers "
+              "started together share the cores (`--step-cores` = cores / servers, at least 1), as "
+              "`culinarycut data generate --local-servers` starts them.", "",
               "*Harness share in episodes*: the client's time in an episode outside server calls and the policy "
               "(making the scene, reading observations, recording the trace). *Run overhead share*: the part of "
               "workers x run wall time not spent in episodes (cluster start, pre-flight checks, storing rows, "

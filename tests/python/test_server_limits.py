@@ -15,7 +15,7 @@ from google.protobuf import json_format
 
 from culinarycut import Client
 from culinarycut.errors import ResourceExhausted
-from culinarycut.launch import ServerProcess, server_binary
+from culinarycut.launch import ServerProcess, cores_per_local_server, server_binary
 from culinarycut.v1 import simulator_pb2, simulator_pb2_grpc
 
 
@@ -41,6 +41,18 @@ def test_cc_cut_prints_the_presets_and_bounds_the_server_publishes(client):
     assert printed["quality_presets"] == published  # each preset's resolution and measured accuracy, NaN included
     assert (printed["max_mass_scaling"], printed["min_activity_radius_cells"]) == \
         (info.limits.max_mass_scaling, info.limits.min_activity_radius_cells)
+
+
+def test_servers_started_together_on_one_machine_share_its_cores():
+    # Each server shares only the cores it is told of among its Steps: two that each took every core would run
+    # twice as many MPM threads as there are cores.
+    import argparse
+    from culinarycut.cli_data import _servers
+    assert cores_per_local_server(1) == os.cpu_count() and cores_per_local_server(10**6) == 1
+    with _servers(argparse.Namespace(local_servers=2, server=None)) as addresses:
+        for address in addresses:
+            with Client(address) as client:
+                assert client.server_info().limits.step_cores == max(1, os.cpu_count() // 2)
 
 
 def test_a_unix_socket_has_no_connection_caps(tmp_path):

@@ -67,9 +67,11 @@ def _servers(args):
     if not args.local_servers:
         yield args.server or ["127.0.0.1:50051"]
         return
-    from culinarycut.launch import ServerProcess
+    from culinarycut.launch import ServerProcess, cores_per_local_server
+    cores = cores_per_local_server(args.local_servers)  # the servers share this machine's cores, not each take all
     with contextlib.ExitStack() as stack:
-        yield [stack.enter_context(ServerProcess(max_sessions=4)).address for _ in range(args.local_servers)]
+        yield [stack.enter_context(ServerProcess(max_sessions=4, step_cores=cores)).address
+               for _ in range(args.local_servers)]
 
 
 def cmd_generate(args) -> int:
@@ -193,7 +195,7 @@ def register(sub) -> None:
                                                  "whose paraphrases, checked by the server's parser, are added")
     gen.add_argument("--paraphrase-model", help="the endpoint's model name")
     gen.add_argument("--server", action="append", metavar="HOST:PORT", help="a culinarycut-server (repeatable)")
-    gen.add_argument("--local-servers", type=int, default=0, help="start this many servers here for the run")
+    gen.add_argument("--local-servers", type=int, default=0, help="start this many servers here for the run; they share the machine's cores (--step-cores = cores / N each)")
     gen.add_argument("--workers", type=int, default=1, help="Dask workers of the local cluster")
     gen.add_argument("--shard-size", type=int, default=4, help="episodes per shard")
     gen.add_argument("--scheduler", help="a Dask scheduler, tcp://HOST:PORT (default: a local cluster)")

@@ -29,11 +29,20 @@ def server_binary() -> Path:
     return Path(shutil.which(SERVER_NAME) or SERVER_NAME)
 
 
+def cores_per_local_server(servers: int) -> int:
+    """The cores each of `servers` servers started together on this machine gives its Steps (--step-cores):
+    a server shares only the cores it is told of among its own Steps, so servers that each took every core
+    would run cores x servers MPM threads and oversubscribe the machine."""
+    return max(1, (os.cpu_count() or 1) // max(1, servers))
+
+
 class ServerProcess:
-    """A running server; `address` is host:port for gRPC, `telemetry` the ZeroMQ PUB endpoint."""
+    """A running server; `address` is host:port for gRPC, `telemetry` the ZeroMQ PUB endpoint. `step_cores`:
+    the cores its Steps share (--step-cores; None: every core), cores_per_local_server() when several run here."""
 
     def __init__(self, binary: Path | str | None = None, max_sessions: int = 8, idle_timeout_s: float = 60,
-                 extra_args: list[str] | None = None, startup_timeout_s: float = 30.0, listen: str = "127.0.0.1:0"):
+                 extra_args: list[str] | None = None, startup_timeout_s: float = 30.0, listen: str = "127.0.0.1:0",
+                 step_cores: int | None = None):
         self.binary = Path(binary) if binary else server_binary()
         if not (self.binary.is_file() and os.access(self.binary, os.X_OK)):
             raise FileNotFoundError(
@@ -41,7 +50,7 @@ class ServerProcess:
                 "build it with scripts/build.sh or set CULINARYCUT_SERVER to its path")
         self.args = [str(self.binary), "--listen", listen, "--telemetry", "tcp://127.0.0.1:0",
                      "--max-sessions", str(max_sessions), "--idle-timeout", f"{idle_timeout_s:g}",
-                     *(extra_args or [])]
+                     *(["--step-cores", str(step_cores)] if step_cores else []), *(extra_args or [])]
         self.lines: list[str] = []  # everything the server printed (stdout and stderr interleaved)
         self._lines_q: queue.Queue[str | None] = queue.Queue()
         self.proc = subprocess.Popen(self.args, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
