@@ -18,7 +18,7 @@ import time
 from pathlib import Path
 
 from culinarycut.datasets.store import GenerationStore
-from culinarycut.launch import ServerProcess, cores_per_local_server
+from culinarycut.launch import local_servers
 
 if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
     sys.path[0] = str(Path(__file__).resolve().parents[1])
@@ -62,14 +62,9 @@ def main() -> int:
         args.servers, args.workers, args.image_size, args.styles = 1, 1, quick.IMAGE_SIZE, "normal"
     with tempfile.TemporaryDirectory() as scratch:
         folder = Path(scratch)
-        cores = cores_per_local_server(args.servers)  # the servers share the machine's cores
-        servers = [ServerProcess(max_sessions=4, step_cores=cores) for _ in range(args.servers)]
-        try:
+        with local_servers(args.servers, max_sessions=4) as servers:  # sharing the machine's cores
             wall_s = generate(folder / "data", [s.address for s in servers], args.workers, args.quality,
                               args.image_size, args.styles, states, food)
-        finally:
-            for server in servers:
-                server.stop()
         with GenerationStore(folder / "data") as store:
             rows = store.rows()
         started = time.perf_counter()

@@ -21,7 +21,7 @@ if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import th
 from bench.harness import ROOT, arguments, dated_machine_info, docs_for, interleaved  # noqa: E402
 from bench.lib import quick  # noqa: E402
 from bench.lib.accuracy import PREVIOUS_DRAFT, RESULTS_JSON, Setting, draft_pick, presets  # noqa: E402
-from bench.lib.suite_runs import per_episode_parts, run_suite  # noqa: E402
+from bench.lib.suite_runs import per_episode_parts, run_suite, with_top_level  # noqa: E402
 
 PAGE, RESULTS = "benchmarks/draft_lever.md", "benchmarks/draft_lever.json"
 SUITE = ROOT / "benchmarks" / "smoke.toml"
@@ -30,11 +30,7 @@ WORKERS = 2
 
 def with_cfl(suite: Path, cfl: float, folder: Path) -> Path:
     """The suite's TOML with `mpm = { cfl = ... }` added at its top level (same name, another folder)."""
-    text = suite.read_text()
-    first_table = text.index("\n[")
-    path = folder / suite.name
-    path.write_text(text[:first_table] + f"\nmpm = {{ cfl = {cfl:g} }}\n" + text[first_table:])
-    return path
+    return with_top_level(suite, f"mpm = {{ cfl = {cfl:g} }}", folder)
 
 
 def other_draft() -> tuple[str, Setting]:

@@ -14,13 +14,13 @@ import sys
 import tempfile
 from pathlib import Path
 
-from culinarycut.launch import ServerProcess, cores_per_local_server, server_binary
+from culinarycut.launch import ServerProcess, local_servers, server_binary
 
 if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
     sys.path[0] = str(Path(__file__).resolve().parents[1])
 from bench.harness import ROOT, arguments, docs_for, machine_info, today  # noqa: E402
 from bench.lib import quick  # noqa: E402
-from bench.lib.suite_runs import per_episode_parts, run_suite as run_bench  # noqa: E402
+from bench.lib.suite_runs import per_episode_parts, run_suite as run_bench, with_top_level  # noqa: E402
 
 PAGE, RESULTS = "benchmarks/suite_throughput.md", "benchmarks/suite_throughput.json"
 # (label, suite, extra arguments, cameras): the smoke suite whole, and one trial of each cucumber task of
@@ -40,12 +40,8 @@ PAPER_EPISODES = 7280  # 20 trials x 52 tasks x 7 foods
 
 def with_cameras(suite: Path, folder: Path, image_px: int) -> Path:
     """The suite's TOML with the three cameras added at its top level (same name, another folder)."""
-    text = suite.read_text()
-    first_table = text.index("\n[")
     cameras = ", ".join(f'{{ name = "{name}", width = {image_px}, height = {image_px} }}' for name in CAMERAS)
-    path = folder / suite.name
-    path.write_text(text[:first_table] + f"\ncameras = [{cameras}]\n" + text[first_table:])
-    return path
+    return with_top_level(suite, f"cameras = [{cameras}]", folder)
 
 
 def run_suite(suite: str | Path, extra: list[str], servers: list[ServerProcess], workers: int, out: Path) -> dict:
@@ -77,18 +73,7 @@ def main() -> int:
         scaling = SCALING[:1] if args.quick else SCALING
         smoke = str(quick.suite(folder)) if args.quick else "smoke"
         image_px = quick.IMAGE_SIZE if args.quick else IMAGE_PX
-        def start(count: int) -> list[ServerProcess]:
-            """`count` servers sharing the machine's cores (each told its part, --step-cores)."""
-            cores = cores_per_local_server(count)
-            return [ServerProcess(args.server_binary, max_sessions=8, idle_timeout_s=600, step_cores=cores)
-                    for _ in range(count)]
-
-        def stop(servers: list[ServerProcess]) -> None:
-            for server in servers:
-                server.stop()
-
-        servers = start(1)
-        try:
+        with local_servers(1, binary=args.server_binary, max_sessions=8, idle_timeout_s=600) as servers:
             for index, (label, suite, extra, cameras) in enumerate(workloads):
                 if cameras:
                     source = Path(suite) if suite.endswith(".toml") else ROOT / "benchmarks" / f"{suite}.toml"
@@ -98,14 +83,10 @@ def main() -> int:
                 results.append({"kind": "throughput", "label": label, "cameras": len(CAMERAS) if cameras else 0,
                                 "image_px": image_px if cameras else 0, **result})
                 print(json.dumps(results[-1]), flush=True)
-        finally:
-            stop(servers)
         for count, workers in scaling:
-            servers = start(count)
-            try:
+            # Servers started together share the cores (each told its part, --step-cores).
+            with local_servers(count, binary=args.server_binary, max_sessions=8, idle_timeout_s=600) as servers:
                 result = run_suite(smoke, [], servers, workers, folder / f"smoke-{count}-{workers}")
-            finally:
-                stop(servers)
             results.append({"kind": "scaling", "label": f"smoke, {count} server(s), {workers} worker(s)", **result})
             print(json.dumps(results[-1]), flush=True)
     info = machine_info()

@@ -25,17 +25,14 @@ CUTTING = {"mpm": True, "plasticity": True, "damage": True, "friction": True, "f
 
 @functools.cache
 def engine_presets(cc_cut: Path | None = None) -> dict:
-    """The engine's quality presets and MPM bounds as `cc-cut --presets` prints them (GetServerInfo's
-    quality_presets, max_mass_scaling and min_activity_radius_cells): sim/world/quality_preset.cc is their
-    one source, so the benchmarks read them instead of keeping a copy."""
+    """The engine's quality presets and MPM bounds (`cc-cut --presets`, sim/world/quality_preset.cc their one
+    source), read once per binary so the benchmarks keep no copy."""
+    from culinarycut.safety.binary import cc_cut_presets
     from bench.harness.paths import cc_cut as built_cc_cut
-    binary = cc_cut or built_cc_cut()
     try:
-        done = subprocess.run([str(binary), "--presets"], capture_output=True, text=True, check=True)
-    except (OSError, subprocess.CalledProcessError) as err:
-        raise SystemExit(f"error: cannot read the engine's presets from {binary} --presets ({err}); build it with "
-                         "scripts/build.sh or set $CULINARYCUT_BUILD") from None
-    return json.loads(done.stdout)
+        return cc_cut_presets(cc_cut or built_cc_cut())
+    except ValueError as err:
+        raise SystemExit(f"error: cannot read the engine's presets: {err}, or set $CULINARYCUT_BUILD") from None
 
 
 def scene(food: str, dx_m: float, speed_m_s: float, overrides: dict | None = None) -> dict:

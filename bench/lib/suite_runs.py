@@ -15,6 +15,15 @@ STAGES = ("mpm", "physics", "render", "rollback", "topology", "task", "control",
 SERVER_OTHER = "server, outside the stages (scene set-up, reset, observations, the wire)"
 
 
+def with_top_level(suite: Path, line: str, folder: Path) -> Path:
+    """The suite's TOML with `line` added at its top level, before its first table (same name, in `folder`)."""
+    text = suite.read_text()
+    first_table = text.index("\n[")
+    path = folder / suite.name
+    path.write_text(text[:first_table] + f"\n{line}\n" + text[first_table:])
+    return path
+
+
 def run_suite(suite: str | Path, servers: list[str], workers: int, out: Path, extra: list[str] = ()) -> dict:
     """Runs the suite into a fresh folder `out`; its wall time and sums over the episodes it stored."""
     command = [sys.executable, "-m", "culinarycut", "bench", "run", str(suite), "--workers", str(workers),

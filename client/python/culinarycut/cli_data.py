@@ -67,11 +67,9 @@ def _servers(args):
     if not args.local_servers:
         yield args.server or ["127.0.0.1:50051"]
         return
-    from culinarycut.launch import ServerProcess, cores_per_local_server
-    cores = cores_per_local_server(args.local_servers)  # the servers share this machine's cores, not each take all
-    with contextlib.ExitStack() as stack:
-        yield [stack.enter_context(ServerProcess(max_sessions=4, step_cores=cores)).address
-               for _ in range(args.local_servers)]
+    from culinarycut.launch import local_servers
+    with local_servers(args.local_servers, max_sessions=4) as servers:  # sharing this machine's cores
+        yield [server.address for server in servers]
 
 
 def cmd_generate(args) -> int:

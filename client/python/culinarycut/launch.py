@@ -1,6 +1,7 @@
 """Start a culinarycut-server subprocess on ephemeral ports and learn its addresses from stdout."""
 from __future__ import annotations
 
+import contextlib
 import os
 import queue
 import re
@@ -34,6 +35,15 @@ def cores_per_local_server(servers: int) -> int:
     a server shares only the cores it is told of among its own Steps, so servers that each took every core
     would run cores x servers MPM threads and oversubscribe the machine."""
     return max(1, (os.cpu_count() or 1) // max(1, servers))
+
+
+@contextlib.contextmanager
+def local_servers(count: int, **options):
+    """`count` ServerProcess(**options) started together on this machine, sharing its cores
+    (step_cores=cores_per_local_server(count)); all stopped on exit."""
+    cores = cores_per_local_server(count)
+    with contextlib.ExitStack() as stack:
+        yield [stack.enter_context(ServerProcess(step_cores=cores, **options)) for _ in range(count)]
 
 
 class ServerProcess:

@@ -21,10 +21,19 @@ def cc_cut_binary() -> Path:
     return Path(shutil.which(CC_CUT_NAME) or CC_CUT_NAME)
 
 
-def engine_qualities(cc_cut: Path) -> list[str]:
-    """The quality presets of cc-cut's engine (`cc-cut --presets`), so no copy of their names is kept here."""
-    done = subprocess.run([str(cc_cut), "--presets"], capture_output=True, text=True)
+def cc_cut_presets(cc_cut: Path) -> dict:
+    """The engine's quality presets and MPM bounds as `cc-cut --presets` prints them (GetServerInfo's fields),
+    so no copy of them is kept here. ValueError naming --cc-cut when the binary cannot say."""
+    try:
+        done = subprocess.run([str(cc_cut), "--presets"], capture_output=True, text=True)
+    except OSError as err:
+        raise ValueError(f"--cc-cut: cannot run {cc_cut} ({err}); build it (scripts/build.sh)") from None
     if done.returncode != 0:
         raise ValueError(f"--cc-cut: {cc_cut} --presets failed ({done.stderr.strip()[:200]}); an older build? "
                          "rebuild it (scripts/build.sh)")
-    return [preset["name"] for preset in json.loads(done.stdout)["quality_presets"]]
+    return json.loads(done.stdout)
+
+
+def engine_qualities(cc_cut: Path) -> list[str]:
+    """The names of the quality presets of cc-cut's engine."""
+    return [preset["name"] for preset in cc_cut_presets(cc_cut)["quality_presets"]]
