@@ -21,7 +21,7 @@ if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import th
 from bench.harness import ROOT, arguments, dated_machine_info, docs_for, interleaved  # noqa: E402
 from bench.lib import quick  # noqa: E402
 from bench.lib.accuracy import PREVIOUS_DRAFT, RESULTS_JSON, Setting, draft_pick, presets  # noqa: E402
-from bench.lib.suite_runs import per_episode_parts, run_suite, with_top_level  # noqa: E402
+from bench.lib.suite_runs import rounds_totals, run_suite, with_top_level  # noqa: E402
 
 PAGE, RESULTS = "benchmarks/draft_lever.md", "benchmarks/draft_lever.json"
 SUITE = ROOT / "benchmarks" / "smoke.toml"
@@ -69,7 +69,7 @@ def main() -> int:
             by_round = interleaved({name: (lambda s=path: run_once(s, server, folder / f"run-{next(counter)}"))
                                     for name, path in settings.items()}, rounds,
                                    announce=lambda i, name: print(f"round {i + 1}/{rounds}: {name}", flush=True))
-    results = {name: _totals(runs) for name, runs in by_round.items()}
+    results = {name: rounds_totals(runs) for name, runs in by_round.items()}
     preset, other_result = results.values()
     data = {"machine": dated_machine_info(), "suite": str(SUITE.relative_to(ROOT)), "workers": WORKERS,
             "rounds": rounds, "results": results,
@@ -78,17 +78,6 @@ def main() -> int:
     docs.publish(PAGE, text, RESULTS, data, __file__)
     print(text)
     return 0
-
-
-def _totals(runs: list[dict]) -> dict:
-    """The rounds of one setting summed: episodes per hour over all of them, seconds per episode by stage."""
-    episodes = sum(r["episodes"] for r in runs)
-    wall_s = sum(r["wall_s"] for r in runs)
-    return {"episodes": episodes, "successes": sum(r["successes"] for r in runs), "wall_s": wall_s,
-            "episodes_per_hour": 3600.0 * episodes / wall_s,
-            "episode_s": sum(r["episode_s"] for r in runs) / episodes,
-            "per_episode_s": per_episode_parts(runs),
-            "resolved_cfl": sorted({c for r in runs for c in r["resolved_cfl"]}), "runs": runs}
 
 
 def _markdown(data: dict) -> str:

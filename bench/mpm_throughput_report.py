@@ -84,7 +84,8 @@ def main() -> int:
         "particles per 2 mm cell.",
         "",
         f"Machine: {cpu_model()}, {data['context'].get('num_cpus')} CPUs, {platform.platform()}; "
-        f"build: Release, no -march flags (SSE2).",
+        f"build: Release; MPM kernels {data['context'].get('simd', 'x86-64')} (the build the loader picked for this "
+        "CPU; [../mpm.md](../mpm.md), \"Instruction sets\").",
         "",
         f"Each row is the median of {repetitions} repetitions of at least 1 s each; the last column is the",
         "run-to-run spread (coefficient of variation). This virtual machine's speed also drifts over",
@@ -118,7 +119,8 @@ def main() -> int:
         "v, m, V, D and writes each particle's node momentum, 64 bytes, which the scatter reads back; G2P reads "
         "x, v, F and writes F, C, x, v; the grid box stays in cache), so memory caps the kernel at "
         f"{memory_limit / 1e6:.0f} M particle-steps/s.",
-        f"- Compute: {fma / 1e9:.0f} GFLOP/s of float32 FMA on 2 threads as this build vectorises (SSE2). One "
+        f"- Compute: {fma / 1e9:.0f} GFLOP/s of float32 multiply-adds on 2 threads as the baseline build vectorises "
+        "(SSE2, the probe's own build; AVX2 with FMA has roughly 2.8x that). One "
         f"particle-step is about {FLOPS_PER_PARTICLE_STEP} flops (polar decomposition about 500, stress 100, "
         "P2G about 300, G2P about 500), so compute caps it at "
         f"{compute_limit / 1e6:.0f} M particle-steps/s.",
@@ -126,7 +128,7 @@ def main() -> int:
         f"100k / 2-thread run reaches {100 * achieved / roofline:.0f} % of it. The stress (polar decomposition "
         "included), the stencils, the F update and the node momentum run 8 particles per SIMD instruction; "
         "the 27-node scatter and gather handle one node (a 4-vector of momentum and mass) per instruction, "
-        "so they, and the SSE2-only build (no FMA, 4 lanes), are what keeps the kernel from the roofline.",
+        "so they are what keeps the kernel from the roofline.",
         "",
     ]
     stored = {"context": data["context"], "cpu_model": cpu_model(), "rows": rows, "triad_bytes_per_s": triad,

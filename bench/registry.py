@@ -93,6 +93,11 @@ BENCHMARKS: tuple[Benchmark, ...] = (
               "the draft preset's CFL in whole episodes: the smoke suite at the draft and at the previous draft's CFL, "
               "side by side, with each episode's time by stage", "10 min", ("server",),
               quick_does="one strawberry episode per setting, one round"),
+    Benchmark("simd_lever", "simd_lever", "benchmarks/simd_lever.md", "benchmarks/simd_lever.json",
+              "the MPM kernels at the CPU's best x86-64 level against the baseline (SSE2): the one-thread cutting "
+              "substep and the smoke suite's episodes per hour, side by side", "10 min",
+              ("server", "cc-cut", "bench_mpm_throughput"),
+              quick_does="one kernel pair per size and one strawberry episode per level"),
     Benchmark("oracle_verdicts", "oracle_verdicts", "benchmarks/oracle_verdicts.md",
               "benchmarks/oracle_verdicts.json",
               "the oracle under the orientation-scoring success rule, each style's signature, both scenes and their "

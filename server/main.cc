@@ -16,6 +16,7 @@
 #include <spdlog/spdlog.h>
 
 #include "server/simulation_server.h"
+#include "sim/mpm/kernel_instruction_set.h"
 #include "server/version.h"
 
 namespace {
@@ -91,6 +92,11 @@ int main(int argc, char** argv) {
   app.add_option("--safety-model", options.safety_model_path,
                  "the safety limiter's fitted force model (default: assets/safety/force_model.json); when missing or "
                  "invalid the server starts without the limiter and says why");
+  std::string simd = "auto";
+  app.add_option("--simd", simd,
+                 "instruction set of the MPM kernels: auto (the best this CPU runs) or a level of this build, e.g. "
+                 "x86-64 (SSE2) or x86-64-v3 (AVX2, FMA); results are the same bits only within one level")
+      ->capture_default_str();
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")
       ->capture_default_str()
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
@@ -98,6 +104,12 @@ int main(int argc, char** argv) {
                                         culinarycut::server::kBuildId + ")");
   CLI11_PARSE(app, argc, argv);
   spdlog::set_level(spdlog::level::from_str(log_level));
+  try {
+    culinarycut::mpm::RequireInstructionSet(simd, argv);  // may start this program again, before any thread
+  } catch (const std::exception& err) {
+    spdlog::error("{}", err.what());
+    return 2;
+  }
 
   // glibc's allocator: buffers over 64 KiB (MPM grids, particle arrays) from mmap at a fixed threshold,
   // and two arenas, so a closed session's memory goes back to the system. With glibc's defaults (a
@@ -141,8 +153,9 @@ int main(int argc, char** argv) {
   // Scripts and tests wait for these two lines.
   std::cout << "culinarycut-server listening on " << server->address() << std::endl;
   if (!server->telemetry_endpoint().empty()) std::cout << "telemetry on " << server->telemetry_endpoint() << std::endl;
-  spdlog::info("version {} build {}; at most {} sessions, idle timeout {} s", culinarycut::server::kServerVersion,
-               culinarycut::server::kBuildId, options.max_sessions, options.idle_timeout_s);
+  spdlog::info("version {} build {}; MPM kernels {}; at most {} sessions, idle timeout {} s",
+               culinarycut::server::kServerVersion, culinarycut::server::kBuildId,
+               culinarycut::mpm::KernelInstructionSet(), options.max_sessions, options.idle_timeout_s);
 
   int received = 0;
   sigwait(&stop_signals, &received);

@@ -11,6 +11,7 @@
 #include "server/wire/observation.h"
 #include "server/wire/safety.h"
 #include "server/wire/scene.h"
+#include "sim/mpm/kernel_instruction_set.h"
 #include "sim/world/controller.h"
 #include "sim/world/scene_budget.h"
 #include "sim/world/snapshot.h"
@@ -47,6 +48,7 @@ double SimulatorService::ObserveToWire(Session& session, v1::FrameStamp* stamp, 
 grpc::Status SimulatorService::GetServerInfo(grpc::ServerContext* context, const v1::GetServerInfoRequest*, v1::ServerInfo* info) {
   info->set_version(kServerVersion);
   info->set_build_id(kBuildId);
+  info->set_simd(mpm::KernelInstructionSet());
   info->set_protocol("culinarycut.v1");
   for (const char* capability : {"robot", "snapshot", "health", "reflection", "tasks", "oracle", "mpm", "cameras"}) {
     info->add_capabilities(capability);

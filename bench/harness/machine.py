@@ -41,6 +41,17 @@ def dated_machine_info() -> dict:
 
 
 @lru_cache(maxsize=1)
+def kernel_instruction_set() -> str:
+    """The instruction set this build's MPM kernels run on this machine (the loader's pick, as cc-cut and
+    GetServerInfo say it); "unknown" without a built cc-cut."""
+    from culinarycut.safety.binary import cc_cut_binary, cc_cut_presets
+    try:
+        return cc_cut_presets(cc_cut_binary()).get("simd", "unknown")
+    except Exception:  # no build yet, or one from before the field: the page says unknown
+        return "unknown"
+
+
+@lru_cache(maxsize=1)
 def build_id() -> str:
     """The checkout's commit as `git describe --always --dirty` gives it ("-dirty": uncommitted changes were
     measured too); "unknown" outside a git checkout."""

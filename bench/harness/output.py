@@ -7,7 +7,7 @@ import json
 import os
 from pathlib import Path
 
-from bench.harness.machine import build_id, machine_info, today
+from bench.harness.machine import build_id, kernel_instruction_set, machine_info, today
 from bench.harness.paths import DOCS, ROOT
 
 
@@ -38,8 +38,9 @@ def docs_for(args: argparse.Namespace, benchmarks: Path | None = None) -> "Docs"
 
 def stamp(script: str | Path) -> dict:
     """What every JSON a benchmark writes carries under "generated": the script, the date, the checkout's build
-    id and the machine."""
-    return {"script": _script_name(script), "date": today(), "build_id": build_id(), "machine": machine_info()}
+    id, the instruction set its MPM kernels ran and the machine."""
+    return {"script": _script_name(script), "date": today(), "build_id": build_id(),
+            "simd": kernel_instruction_set(), "machine": machine_info()}
 
 
 def stamp_of(data: dict) -> dict:

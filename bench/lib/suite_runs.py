@@ -1,6 +1,7 @@
 """One `culinarycut bench run` as a user runs it, and where its episodes' time went, from the rows it stored:
 the run's wall time, and per episode the server's stages (its own timers), the rest of the server calls, the
-policy and the harness. Shared by the benchmarks that time whole suites (suite_throughput, draft_lever)."""
+policy and the harness. Shared by the benchmarks that time whole suites (suite_throughput, draft_lever,
+simd_lever)."""
 from __future__ import annotations
 
 import json
@@ -36,7 +37,7 @@ def run_suite(suite: str | Path, servers: list[str], workers: int, out: Path, ex
     if done.returncode != 0:
         raise RuntimeError(f"{' '.join(command)} failed:\n{done.stdout[-3000:]}\n{done.stderr[-3000:]}")
     db = sqlite3.connect(out / "results.sqlite")
-    rows = db.execute("SELECT outcome, wall_s, env_wall_s, policy_wall_s, stage_wall_s, resolved_scene "
+    rows = db.execute("SELECT outcome, wall_s, env_wall_s, policy_wall_s, stage_wall_s, resolved_scene, simd "
                       "FROM episodes").fetchall()
     db.close()
     stages = {stage: 0.0 for stage in STAGES}
@@ -48,7 +49,20 @@ def run_suite(suite: str | Path, servers: list[str], workers: int, out: Path, ex
     return {"wall_s": wall_s, "workers": workers, "servers": len(servers), "episodes": len(rows),
             "successes": sum(r[0] == "success" for r in rows), "episode_s": episode_s, "server_call_s": server_s,
             "policy_s": policy_s, "harness_s": episode_s - server_s - policy_s, "stages_s": stages,
-            "resolved_cfl": sorted({json.loads(r[5])["mpm"]["cfl"] for r in rows})}
+            "resolved_cfl": sorted({json.loads(r[5])["mpm"]["cfl"] for r in rows}),
+            "simd": sorted({r[6] or "" for r in rows})}
+
+
+def rounds_totals(runs: list[dict]) -> dict:
+    """The rounds of one setting summed: episodes per hour over all of them, seconds per episode by part."""
+    episodes = sum(r["episodes"] for r in runs)
+    wall_s = sum(r["wall_s"] for r in runs)
+    return {"episodes": episodes, "successes": sum(r["successes"] for r in runs), "wall_s": wall_s,
+            "episodes_per_hour": 3600.0 * episodes / wall_s,
+            "episode_s": sum(r["episode_s"] for r in runs) / episodes,
+            "per_episode_s": per_episode_parts(runs),
+            "resolved_cfl": sorted({c for r in runs for c in r["resolved_cfl"]}),
+            "simd": sorted({s for r in runs for s in r.get("simd", [])}), "runs": runs}
 
 
 def per_episode_parts(runs: list[dict]) -> dict[str, float]:

@@ -130,11 +130,13 @@ def smoke_run(tmp_path_factory, address) -> Path:
     return out
 
 
-def test_the_smoke_suite_runs_end_to_end_and_stores_a_full_row_per_episode(smoke_run):
+def test_the_smoke_suite_runs_end_to_end_and_stores_a_full_row_per_episode(smoke_run, client):
     stored = rows(smoke_run)
+    simd = client.server_info().simd
     assert len(stored) == 8 and {r["outcome"] for r in stored} == {"success"}
     for row in stored:
         assert row["policy"] == "oracle" and row["server_version"] and row["build_id"]
+        assert row["simd"] == simd  # the instruction set its MPM kernels ran
         assert json.loads(row["resolved_scene"])["task"]["instruction"] == row["instruction"]
         cuts = json.loads(row["cuts"])
         assert len(cuts) == row["cuts_required"] >= 1
@@ -215,7 +217,7 @@ def test_a_run_refuses_to_mix_server_versions_unless_told(address, tmp_path):
     db.close()
     refused = bench("run", "smoke", *one_task, check=False)
     assert refused.returncode == 1 and "servers of different versions" in refused.stderr
-    assert "0.0.1 (build elsewhere)" in refused.stderr and "--allow-mixed-versions" in refused.stderr
+    assert "0.0.1 (build elsewhere, " in refused.stderr and "--allow-mixed-versions" in refused.stderr
     other_suite = bench("run", "split-partial", "--trials", "1", "--server", address, "--out", str(out),
                         "--no-progress", check=False)
     assert other_suite.returncode == 1 and "holds a run with suite = smoke" in other_suite.stderr
@@ -285,7 +287,7 @@ def test_a_worker_bound_to_a_server_of_another_build_stops_the_run_before_its_ro
                 address, "--scheduler", scheduler, "--out", str(out), "--no-progress"]
         refused = bench(*argv, check=False)
         assert refused.returncode == 1, refused.stderr
-        assert f"ran on {second_server.address}, {OTHER_VERSION} (build {OTHER_BUILD})" in refused.stderr
+        assert f"ran on {second_server.address}, {OTHER_VERSION} (build {OTHER_BUILD}, " in refused.stderr
         assert "Traceback" not in refused.stderr and "--allow-mixed-versions" in refused.stderr
         assert re.search(r"resume with:\n  culinarycut bench run .*sections\.toml", refused.stderr)
         assert rows(out) == []
@@ -421,7 +423,7 @@ def test_retry_errors_reruns_the_episodes_stored_as_server_errors_and_replaces_t
     assert rows(out)[1]["end_reason"] == "server_error"
     bench("report", str(out), "--out", str(tmp_path / "report"))
     summary = (tmp_path / "report" / "report.md").read_text().split("## ")[0]
-    assert f"| noop @ {kept['server_version']} ({kept['build_id']}) |" in summary  # the error row names no build
+    assert f"| noop @ {kept['server_version']} ({kept['build_id']}, {kept['simd']}) |" in summary  # the error row names no build
     retried = bench(*argv, "--retry-errors")
     assert "this run: 1 episodes" in retried.stdout and "1 stored errors run again" in retried.stdout
     now_kept, now_retried = rows(out)

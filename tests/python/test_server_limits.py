@@ -39,8 +39,8 @@ def test_cc_cut_prints_the_presets_and_bounds_the_server_publishes(client):
                  for p in info.quality_presets]
     assert [p["name"] for p in printed["quality_presets"]] == ["draft", "standard", "fine"]
     assert printed["quality_presets"] == published  # each preset's resolution and measured accuracy, NaN included
-    assert (printed["max_mass_scaling"], printed["min_activity_radius_cells"]) == \
-        (info.limits.max_mass_scaling, info.limits.min_activity_radius_cells)
+    assert (printed["max_mass_scaling"], printed["min_activity_radius_cells"], printed["simd"]) == \
+        (info.limits.max_mass_scaling, info.limits.min_activity_radius_cells, info.simd)
 
 
 def test_servers_started_together_on_one_machine_share_its_cores():

@@ -1,7 +1,8 @@
-// cc-cut SCENE.json --out DIR [--threads N] [--particles] [--quiet]: runs a knife-cut scene, writes
+// cc-cut SCENE.json --out DIR [--threads N] [--simd LEVEL] [--particles] [--quiet]: runs a knife-cut scene, writes
 // DIR/steps.csv (one row per substep), DIR/summary.json and with --particles DIR/particles.csv (every
 // particle's rest and final position and piece), and prints progress and a summary.
-// cc-cut --presets: prints the engine's quality presets and MPM bounds as JSON (GetServerInfo's fields).
+// cc-cut --presets: prints the engine's quality presets, MPM bounds and kernels' instruction set as JSON
+// (GetServerInfo's fields).
 // Exit codes: 0 done, 2 bad arguments, scene file or output directory, 1 the simulation failed.
 #include <chrono>
 #include <cstdio>
@@ -14,6 +15,7 @@
 #include <CLI/CLI.hpp>
 
 #include "server/wire/scene.h"
+#include "sim/mpm/kernel_instruction_set.h"
 #include "tools/cc_cut/cut_model.h"
 #include "tools/cc_cut/cut_run.h"
 #include "tools/cc_cut/cut_scene.h"
@@ -44,7 +46,8 @@ void PrintPresets() {
   const nlohmann::json out = {
       {"quality_presets", all["quality_presets"]},
       {"max_mass_scaling", all["limits"]["max_mass_scaling"]},
-      {"min_activity_radius_cells", all["limits"]["min_activity_radius_cells"]}};
+      {"min_activity_radius_cells", all["limits"]["min_activity_radius_cells"]},
+      {"simd", culinarycut::mpm::KernelInstructionSet()}};
   std::cout << out.dump(1) << "\n";
 }
 
@@ -72,6 +75,9 @@ int main(int argc, char** argv) {
   app.add_flag("--presets", presets, "print the engine's quality presets and MPM bounds (JSON) and exit");
   app.add_option("--threads", threads, "OpenMP threads (overrides solver.threads)")
       ->check(CLI::Range(1, 1024));
+  std::string simd = "auto";
+  app.add_option("--simd", simd, "instruction set of the MPM kernels: auto or a level of this build, e.g. x86-64")
+      ->capture_default_str();
   app.add_flag("--particles", write_particles, "also write particles.csv: each particle's rest and final position and piece");
   app.add_flag("--quiet", quiet, "no progress lines and no summary");
   try {
@@ -81,6 +87,11 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& error) {
     app.exit(error);
     return kBadInput;
+  }
+  try {
+    culinarycut::mpm::RequireInstructionSet(simd, argv);  // may start cc-cut again
+  } catch (const std::exception& failure) {
+    return Fail(failure.what());
   }
   if (presets) {
     PrintPresets();

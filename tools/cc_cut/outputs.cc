@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "sim/mpm/kernel_instruction_set.h"
 #include "tools/cc_cut/scene_spec_json.h"
 
 namespace culinarycut::cc_cut {
@@ -191,6 +192,7 @@ void WriteStepRow(const CutStepRecord& record, std::ostream& out) {
 std::string SummaryJson(const std::string& scene_path, const CutScene& scene, const CutModel& model,
                         const CutSummary& summary) {
   const json root = {{"tool", "cc-cut"},
+                     {"simd", mpm::KernelInstructionSet()},  // results are the same bits only within one
                      {"scene_file", scene_path},
                      {"scene", json::parse(CutSceneToJson(scene))},
                      {"resolved", ResolvedJson(model, summary)},

@@ -49,6 +49,7 @@ def cmd_info(args) -> int:
         return 0
     print(f"server        {args.address}")
     print(f"version       {info.version} (build {info.build_id or '?'})")
+    print(f"MPM kernels   {info.simd or '?'} (--simd; results are the same bits only within one)")
     print(f"protocol      {info.protocol}")
     print(f"capabilities  {', '.join(info.capabilities) or '-'}")
     print(f"control modes {', '.join(info.control_modes) or '-'}")

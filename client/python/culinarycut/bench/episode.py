@@ -108,7 +108,7 @@ def run_episode(spec: EpisodeSpec, server: str, options: EpisodeOptions) -> Epis
     row.update(policy=options.policy, policy_options=json.dumps(options.policy_options, sort_keys=True),
                server=server, outcome="error", end_reason="", error="", steps=0, sim_time_s=0.0,
                peak_force_n=0.0, peak_speed_m_s=0.0, stalled_steps=0, pieces=0, instruction="", resolved_scene="",
-               env_wall_s=0.0, policy_wall_s=0.0, stage_wall_s="{}", server_version="", build_id="",
+               env_wall_s=0.0, policy_wall_s=0.0, stage_wall_s="{}", server_version="", build_id="", simd="",
                policy_name="", policy_version="", **_score_fields(None))
     trace: dict[str, list] = {"time_s": [], "force_n": [], "speed_m_s": [], "tcp_z_m": [], "tcp_along_cut_m": [],
                               "tcp_along_blade_m": [], "blade_pitch_deg": [], "knife_contact": [], "safety_acted": []}
@@ -116,7 +116,7 @@ def run_episode(spec: EpisodeSpec, server: str, options: EpisodeOptions) -> Epis
     try:
         with Client(server, timeout_s=options.rpc_timeout_s) as client:
             info = client.server_info()
-            row.update(server_version=info.version, build_id=info.build_id)
+            row.update(server_version=info.version, build_id=info.build_id, simd=info.simd)
             policy = make_policy(options.policy, options.policy_options)
             try:
                 _play(client, spec, policy, options, row, trace, frames)

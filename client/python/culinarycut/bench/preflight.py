@@ -25,9 +25,10 @@ def server_infos(servers: list[str]) -> dict:
     return infos
 
 
-def server_versions(infos: dict) -> dict[str, tuple[str, str]]:
-    """(version, build id) of each server."""
-    return {server: (info.version, info.build_id) for server, info in infos.items()}
+def server_versions(infos: dict) -> dict[str, tuple[str, str, str]]:
+    """(version, build id, instruction set of its MPM kernels) of each server: results are the same bits only
+    where all three are."""
+    return {server: (info.version, info.build_id, info.simd) for server, info in infos.items()}
 
 
 MAX_AUTO_WORKERS = 16

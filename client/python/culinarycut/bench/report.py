@@ -65,7 +65,8 @@ def load_run(folder: Path) -> Run:
     if not rows:
         raise ReportError(f"{folder} holds no episodes yet")
     # A server_error before the server said its version leaves the row without one: it names no build.
-    versions = sorted({f"{r['server_version']} ({r['build_id'] or '?'})" for r in rows if r["server_version"]})
+    versions = sorted({f"{r['server_version']} ({r['build_id'] or '?'}{', ' + r['simd'] if r.get('simd') else ''})"
+                       for r in rows if r["server_version"]})
     label = f"{metadata.get('policy', rows[0]['policy'])} @ {', '.join(versions) or 'unknown server'}"
     return Run(label, folder, metadata, rows, traces)
 

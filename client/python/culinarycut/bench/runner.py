@@ -56,30 +56,31 @@ class RunSummary:
     errors: dict[str, int] = field(default_factory=dict)  # the suite's episodes stored as errors, by end_reason
 
 
-def _version_text(version: tuple[str, str]) -> str:
-    return f"{version[0]} (build {version[1] or '?'})"
+def _version_text(version: tuple[str, str, str]) -> str:
+    return f"{version[0]} (build {version[1] or '?'}, {version[2] or 'simd ?'})"
 
 
-def check_versions(versions: dict[str, tuple[str, str]], store: ResultStore,
-                   allow_mixed: bool) -> set[tuple[str, str]] | None:
-    """The (version, build id) pairs this run may store: the servers' and the stored rows', which must be
-    one unless mixing is allowed (then None: any)."""
+def check_versions(versions: dict[str, tuple[str, str, str]], store: ResultStore,
+                   allow_mixed: bool) -> set[tuple[str, str, str]] | None:
+    """The (version, build id, instruction set) triples this run may store: the servers' and the stored
+    rows', which must be one unless mixing is allowed (then None: any)."""
     distinct = set(versions.values()) | {tuple(v) for v in store.server_versions()}
     if allow_mixed:
         return None
     if len(distinct) > 1:
         listed = "; ".join(f"{s}: {_version_text(v)}" for s, v in versions.items())
         stored = ", ".join(_version_text(v) for v in store.server_versions()) or "none"
-        raise RunError(f"servers of different versions would mix in one run: {listed}; already stored: {stored}. "
-                       "Use one build, another --out, or --allow-mixed-versions")
+        raise RunError(f"servers of different versions, builds or instruction sets would mix in one run: {listed}; "
+                       f"already stored: {stored}. Use one build at one --simd level, another --out, or "
+                       "--allow-mixed-versions")
     return distinct
 
 
-def check_row_version(row: dict, allowed: set[tuple[str, str]] | None, stored: int, resume: str) -> None:
-    """An episode from a server of another version or build than the run's stops the run before it is
+def check_row_version(row: dict, allowed: set[tuple[str, str, str]] | None, stored: int, resume: str) -> None:
+    """An episode from a server of another version, build or instruction set than the run's stops the run before it is
     stored: a worker bound by CULINARYCUT_SERVER to a server the pre-flight check never asked. A row
     without a version (the server failed before it said) has nothing to compare."""
-    version = (row.get("server_version") or "", row.get("build_id") or "")
+    version = (row.get("server_version") or "", row.get("build_id") or "", row.get("simd") or "")
     if allowed is None or not version[0] or version in allowed:
         return
     raise RunError(f"episode {row['task']} trial {row['trial']} ran on {row['server']}, "

@@ -43,6 +43,8 @@ EPISODE_COLUMNS = (
     ("server", "TEXT", "host:port it ran on"),
     ("server_version", "TEXT", "culinarycut-server version"),
     ("build_id", "TEXT", "the server's build id"),
+    ("simd", "TEXT", "the instruction set the server's MPM kernels ran (x86-64, x86-64-v3, ...): same bits only "
+                     "within one"),
     ("resolved_scene", "TEXT", "the SceneSpec the server resolved, JSON"),
     ("outcome", "TEXT NOT NULL", "success, failure or error"),
     ("end_reason", "TEXT", "success, task_failed, step_limit, policy_finished, knife_stalled, policy_error, "
@@ -146,10 +148,11 @@ class ResultStore(DurableDatabase):
         """The episodes stored with outcome error (server_error, policy_error): what --retry-errors reruns."""
         return set(self.db.execute("SELECT task, trial FROM episodes WHERE outcome = 'error'").fetchall())
 
-    def server_versions(self) -> set[tuple[str, str]]:
-        """(version, build id) of the servers the rows ran on; rows without a version (a server_error before
-        the server said its version) name none."""
-        return set(self.db.execute("SELECT DISTINCT server_version, COALESCE(build_id, '') FROM episodes "
+    def server_versions(self) -> set[tuple[str, str, str]]:
+        """(version, build id, instruction set) of the servers the rows ran on; rows without a version (a
+        server_error before the server said its version) name none."""
+        return set(self.db.execute("SELECT DISTINCT server_version, COALESCE(build_id, ''), COALESCE(simd, '') "
+                                   "FROM episodes "
                                    "WHERE server_version IS NOT NULL AND server_version != ''").fetchall())
 
     def record(self, row: dict[str, Any], trace: dict | None = None, replace_error: bool = False) -> bool:
