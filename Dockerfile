@@ -22,7 +22,8 @@ SHELL ["/bin/bash", "-o", "pipefail", "-c"]
 # (bookworm registers some libraries under /lib and some under /usr/lib: try the path as ldd prints
 # it, then resolved). A library no package owns stops the build.
 # Our own MPM library (build/lib, one build per x86-64 level) is copied, not installed.
-RUN for lib in $(ldd build/server/culinarycut-server | awk '/=> \// && $3 !~ /^\/opt\/culinarycut\// {print $3}'); do \
+RUN ! ldd build/server/culinarycut-server | grep "not found" \
+    && for lib in $(ldd build/server/culinarycut-server | awk '/=> \// && $3 !~ /^\/opt\/culinarycut\// {print $3}'); do \
       dpkg -S "$lib" 2>/dev/null || dpkg -S "$(realpath "$lib")" 2>/dev/null \
         || { echo "no Debian package owns $lib" >&2; exit 1; }; \
     done | cut -d: -f1 | sort -u > /opt/culinarycut/runtime-packages.txt
@@ -37,6 +38,8 @@ RUN apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq 
 COPY --from=build /opt/culinarycut/build/server/culinarycut-server /opt/culinarycut/bin/culinarycut-server
 # The MPM library, once per x86-64 level: the loader picks the best the CPU runs (lib/glibc-hwcaps/).
 COPY --from=build /opt/culinarycut/build/lib /opt/culinarycut/lib
+# The binary finds its libraries where the image put them (ldd checked the build stage's only).
+RUN /opt/culinarycut/bin/culinarycut-server --version
 COPY --from=build /opt/culinarycut/assets /opt/culinarycut/assets
 COPY --from=build /opt/culinarycut/scripts/container_entrypoint.sh /opt/culinarycut/bin/container-entrypoint
 USER culinarycut

@@ -16,8 +16,8 @@
 #include <spdlog/spdlog.h>
 
 #include "server/simulation_server.h"
-#include "sim/mpm/kernel_instruction_set.h"
 #include "server/version.h"
+#include "sim/mpm/kernel_instruction_set.h"
 
 namespace {
 

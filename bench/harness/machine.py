@@ -42,11 +42,12 @@ def dated_machine_info() -> dict:
 
 @lru_cache(maxsize=1)
 def kernel_instruction_set() -> str:
-    """The instruction set this build's MPM kernels run on this machine (the loader's pick, as cc-cut and
-    GetServerInfo say it); "unknown" without a built cc-cut."""
-    from culinarycut.safety.binary import cc_cut_binary, cc_cut_presets
+    """The instruction set the benchmarked build's MPM kernels run on this machine by default (the loader's pick,
+    as cc-cut and GetServerInfo say it); "unknown" without a built cc-cut."""
+    from bench.harness.paths import cc_cut
+    from culinarycut.safety.binary import cc_cut_presets
     try:
-        return cc_cut_presets(cc_cut_binary()).get("simd", "unknown")
+        return cc_cut_presets(cc_cut()).get("simd", "unknown")
     except Exception:  # no build yet, or one from before the field: the page says unknown
         return "unknown"
 

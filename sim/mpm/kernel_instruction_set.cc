@@ -23,6 +23,17 @@ std::string MaskAbove(const std::string& level) {
   return "";
 }
 
+// GLIBC_TUNABLES with `mask` added to its glibc.cpu.hwcaps entry (the last entry of a name wins, so a second
+// one would drop the user's own mask).
+std::string WithHwcapsMask(const char* tunables, const std::string& mask) {
+  const std::string key = "glibc.cpu.hwcaps=";
+  std::string text = tunables ? tunables : "";
+  const std::size_t at = text.find(key);
+  if (at == std::string::npos) return text.empty() ? key + mask : text + ":" + key + mask;
+  const std::size_t end = text.find(':', at);
+  return text.insert(end == std::string::npos ? text.size() : end, "," + mask);
+}
+
 std::string Listed(const std::vector<std::string>& levels) {
   std::ostringstream text;
   for (std::size_t i = 0; i < levels.size(); ++i) text << (i ? ", " : "") << levels[i];
@@ -58,7 +69,10 @@ std::vector<std::string> BuiltInstructionSets() {
 
 void RequireInstructionSet(const std::string& level, char** argv) {
   const std::vector<std::string> built = BuiltInstructionSets();
-  if (level == "auto" || level == KernelInstructionSet()) return;
+  if (level == "auto" || level == KernelInstructionSet()) {
+    unsetenv(kRestartMark);  // a program this one starts may restart itself in turn
+    return;
+  }
   const auto wanted = std::find(built.begin(), built.end(), level);
   if (wanted == built.end()) {
     throw std::invalid_argument("--simd must be auto or a level this build has (" + Listed(built) + "), got \"" +
@@ -73,10 +87,7 @@ void RequireInstructionSet(const std::string& level, char** argv) {
     throw std::runtime_error("--simd " + level + ": started again with the wider levels masked, the loader still chose " +
                              KernelInstructionSet() + " (is glibc older than 2.33?)");
   }
-  const char* tunables = std::getenv("GLIBC_TUNABLES");
-  const std::string mask = "glibc.cpu.hwcaps=" + MaskAbove(level);
-  const std::string combined = tunables && *tunables ? std::string(tunables) + ":" + mask : mask;
-  setenv("GLIBC_TUNABLES", combined.c_str(), 1);
+  setenv("GLIBC_TUNABLES", WithHwcapsMask(std::getenv("GLIBC_TUNABLES"), MaskAbove(level)).c_str(), 1);
   setenv(kRestartMark, "1", 1);
   execv("/proc/self/exe", argv);
   throw std::runtime_error(std::string("--simd ") + level + ": could not start again: " + std::strerror(errno));

@@ -69,6 +69,18 @@ def test_the_server_image_serves_tls_with_tokens_and_no_telemetry_by_default():
     assert exposed == ["50051"], f"the server image exposes {exposed}: the gRPC port only (telemetry is off)"
 
 
+def test_the_server_image_puts_the_mpm_library_where_the_binary_looks_for_it():
+    # The server loads libculinarycut_mpm.so (one build per x86-64 level) from $ORIGIN/../lib: the image must
+    # copy the build's lib/ there, beside the bin/ it copies the binary into.
+    copies = {args.split()[-2]: args.split()[-1] for i, args in stages()["server"] if i == "COPY" and "--from=build" in args}
+    assert copies.get("/opt/culinarycut/build/server/culinarycut-server") == "/opt/culinarycut/bin/culinarycut-server"
+    assert copies.get("/opt/culinarycut/build/lib") == "/opt/culinarycut/lib"
+    binary = ROOT / "build" / "server" / "culinarycut-server"
+    if shutil.which("readelf") and binary.is_file():
+        dynamic = subprocess.run(["readelf", "-d", str(binary)], capture_output=True, text=True).stdout
+        assert "$ORIGIN/../lib" in dynamic, "the server's RUNPATH lacks $ORIGIN/../lib"
+
+
 def test_the_build_id_is_a_build_argument_the_build_reads():
     build = stages()["build"]
     steps = [f"{i} {a}" for i, a in build]

@@ -4,6 +4,7 @@ a level the build lacks refused; and the benchmark runner refusing to mix levels
 from __future__ import annotations
 
 import json
+import platform
 import sqlite3
 import subprocess
 import sys
@@ -16,6 +17,8 @@ from culinarycut import Client
 from culinarycut.launch import ServerProcess, server_binary
 from culinarycut.safety.binary import cc_cut_binary
 
+pytestmark = pytest.mark.skipif(platform.machine() not in ("x86_64", "AMD64"),
+                                reason="one MPM build per x86-64 level: x86-64 only")
 BASELINE = "x86-64"
 # A draft cucumber cut fast: about a thousand particles, a second or two of cc-cut.
 SCENE = {
