@@ -55,7 +55,8 @@ def train_config(args: argparse.Namespace):
         data = json.loads(saved.read_text())
         base = TrainConfig.from_dict({k: v for k, v in data.items() if k not in ("data", "data_sha256")})
     model = dataclasses.replace(base.model, **{k: getattr(args, k) for k in MODEL_OPTIONS if getattr(args, k) is not None})
-    return dataclasses.replace(base, model=model,
+    styles = {} if getattr(args, "styles", None) is None else {"styles": args.styles}
+    return dataclasses.replace(base, model=model, **styles,
                                **{k: getattr(args, k) for k in TRAIN_OPTIONS if getattr(args, k) is not None})
 
 
@@ -126,6 +127,8 @@ def main(argv=None) -> int:
     train.add_argument("--no-progress", action="store_true", help="no progress bar")
     _add_options(train, TRAIN_OPTIONS)
     _add_options(train, MODEL_OPTIONS)
+    train.add_argument("--styles", type=lambda text: tuple(s for s in text.split(",") if s), default=None,
+                       help="comma list: train only on the demos of these cut styles (default: every demo)")
     serve = commands.add_parser("serve", help="serve a checkpoint over openpi's websocket protocol (LIBERO layout)")
     serve.add_argument("--checkpoint", required=True, help="a run folder (its checkpoint.pt) or a checkpoint file")
     serve.add_argument("--host", default="127.0.0.1")

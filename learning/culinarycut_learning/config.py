@@ -6,6 +6,8 @@ import dataclasses
 import json
 from dataclasses import dataclass, field
 
+from culinarycut.datasets.jobs import STYLES
+
 ENCODERS = ("small_cnn", "resnet18")
 # Fields that do not change the weights a run arrives at: they may differ when a run is resumed.
 RUNTIME_FIELDS = ("save_every", "log_every")
@@ -55,8 +57,13 @@ class TrainConfig:
     word_dropout: float = 0.1      # a training word read as <unk>
     save_every: int = 500
     log_every: int = 50
+    styles: tuple = ()             # cut styles of the demos trained on (their cut_spec's); empty: every demo
 
     def __post_init__(self):
+        object.__setattr__(self, "styles", tuple(self.styles))  # a list from JSON compares equal to the tuple
+        unknown = set(self.styles) - set(STYLES)
+        if unknown:
+            raise ValueError(f"styles: {', '.join(sorted(unknown))} is not a cut style ({', '.join(STYLES)})")
         for name in ("steps", "batch_size", "threads", "save_every", "log_every"):
             if getattr(self, name) < 1:
                 raise ValueError(f"{name} must be at least 1, got {getattr(self, name)}")

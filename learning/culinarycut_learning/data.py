@@ -64,8 +64,9 @@ def file_digest(path: Path) -> str:
     return digest.hexdigest()
 
 
-def load_episodes(path: Path, image_size: int, split: str = "train") -> list[Episode]:
-    """The episodes of mask/<split> (every demo when the mask is missing or, for train, empty)."""
+def load_episodes(path: Path, image_size: int, split: str = "train", styles: tuple = ()) -> list[Episode]:
+    """The episodes of mask/<split> (every demo when the mask is missing or, for train, empty); with `styles`, only
+    the demos whose cut spec has one of them."""
     path = find_robomimic_file(path)
     episodes = []
     with h5py.File(path, "r") as file:
@@ -79,6 +80,8 @@ def load_episodes(path: Path, image_size: int, split: str = "train") -> list[Epi
             names = []
         for name in names:
             demo = data[name]
+            if styles and json.loads(demo.attrs.get("cut_spec", "{}")).get("style") not in styles:
+                continue
             missing = [c for c in CAMERAS if f"obs/{c}_image" not in demo]
             if missing:
                 cameras = sorted(k[: -len("_image")] for k in demo["obs"] if k.endswith("_image"))
@@ -95,7 +98,7 @@ def load_episodes(path: Path, image_size: int, split: str = "train") -> list[Epi
                                     wrench=compress_wrench(demo["obs/wrist_wrench"][()]), actions=actions,
                                     instructions=list(json.loads(demo.attrs["instructions"]))))
     if split == "train" and not episodes:
-        raise DataError(f"{path}: no episodes to train on")
+        raise DataError(f"{path}: no episodes to train on" + (f" in the styles {', '.join(styles)}" if styles else ""))
     return episodes
 
 

@@ -162,8 +162,8 @@ def train(data: Path, out: Path, config: TrainConfig, device: str = "cpu", progr
         if changed:
             raise RunError(f"{out} holds a run with other settings; use another --out, or the same settings to "
                            f"resume it: {'; '.join(changed)}")
-    episodes = load_episodes(data_file, config.model.image_size, "train")
-    valid_episodes = load_episodes(data_file, config.model.image_size, "valid")
+    episodes = load_episodes(data_file, config.model.image_size, "train", config.styles)
+    valid_episodes = load_episodes(data_file, config.model.image_size, "valid", config.styles)
     if resumed is not None:
         tokenizer, stats = Tokenizer.from_dict(resumed["tokenizer"]), resumed["normalisation"]
     else:

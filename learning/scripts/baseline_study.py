@@ -24,14 +24,12 @@ import datetime
 import json
 import os
 import platform
-import socket
 import sqlite3
 import subprocess
 import sys
-import time
 from pathlib import Path
 
-CHECKOUT = Path(__file__).resolve().parents[2]
+from culinarycut_learning.study import CHECKOUT, Study, serve, summarise
 FOODS = ("cucumber", "banana")
 STYLES = ("normal", "bias", "guillotine", "saw")
 STATES = ("middle",) + tuple(f"ratio-{r / 10:g}" for r in range(1, 10))
@@ -39,47 +37,13 @@ SUITES = ("unseen-seeds", "multi-object", "unseen-language", "cross-object", "co
           "topology-ablation")
 
 
-def log(text: str) -> None:
-    print(f"[baseline_study] {text}", file=sys.stderr, flush=True)
-
-
-class Study:
-    """STUDY/study.json: the options of the study and each stage's accumulated wall time."""
-
-    def __init__(self, root: Path, options: dict):
-        self.root = root
-        self.path = root / "study.json"
-        root.mkdir(parents=True, exist_ok=True)
-        self.state = json.loads(self.path.read_text()) if self.path.is_file() else {"options": options, "stages": {}}
-        fixed = ("foods", "styles", "states", "episodes_per_task", "image_size", "seed")
-        changed = [k for k in fixed if self.state["options"].get(k) != options.get(k)]
-        if changed:
-            raise SystemExit(f"{root} holds a study with other data options ({', '.join(changed)}); use another --out")
-        self.state["options"] = options
-        self.save()
-
-    def save(self) -> None:
-        temporary = self.path.with_suffix(".tmp")
-        temporary.write_text(json.dumps(self.state, indent=1, sort_keys=True) + "\n")
-        os.replace(temporary, self.path)
-
-    def stage(self, name: str, command: list, ok_codes=(0,)) -> int:
-        """Runs `command` (python -m ...) with this interpreter, adding its wall time to the stage."""
-        log(f"{name}: {' '.join(map(str, command))}")
-        started = time.monotonic()
-        code = subprocess.call([sys.executable, *map(str, command)], cwd=CHECKOUT)
-        entry = self.state["stages"].setdefault(name, {"wall_s": 0.0})
-        entry["wall_s"] = round(entry["wall_s"] + time.monotonic() - started, 1)
-        entry["exit_code"] = code
-        self.save()
-        if code not in ok_codes:
-            raise SystemExit(f"{name} exited {code}; fix what it says and run the same command again to resume")
-        return code
-
-
 def kept_episodes(dataset: Path) -> int:
     with sqlite3.connect(dataset / "generation.sqlite") as db:
         return int(db.execute("SELECT COUNT(*) FROM jobs WHERE kept = 1").fetchone()[0])
+
+
+# The options that decide a study folder's data: another value for one of them needs another folder.
+DATA_OPTIONS = ("foods", "styles", "states", "episodes_per_task", "image_size", "seed")
 
 
 def export(study: Study, dataset: Path, out: Path) -> None:
@@ -87,53 +51,13 @@ def export(study: Study, dataset: Path, out: Path) -> None:
     marker = out / "exported.json"
     kept = kept_episodes(dataset)
     if marker.is_file() and json.loads(marker.read_text()).get("kept") == kept:
-        log(f"export: {out} is up to date ({kept} episodes)")
+        study.log(f"export: {out} is up to date ({kept} episodes)")
         return
     if out.exists():
         for path in sorted(out.rglob("*"), reverse=True):
             path.unlink() if path.is_file() else path.rmdir()
     study.stage("export", ["-m", "culinarycut", "data", "export", dataset, "--out", out, "--format", "robomimic"])
     marker.write_text(json.dumps({"kept": kept}) + "\n")
-
-
-def policy_port(study: Study, wanted: int | None) -> int:
-    """The policy server's port: the runner's run folders record the policy's url, so a resumed study must
-    serve on the port of its first run (chosen free then, or --port)."""
-    if wanted:
-        study.state["port"] = wanted
-    elif not study.state.get("port"):
-        with socket.socket() as probe:
-            probe.bind(("127.0.0.1", 0))
-            study.state["port"] = probe.getsockname()[1]
-    study.save()
-    return int(study.state["port"])
-
-
-def serve(checkpoint: Path, device: str, port: int) -> tuple[subprocess.Popen, str]:
-    process = subprocess.Popen([sys.executable, "-m", "culinarycut_learning", "serve", "--checkpoint", str(checkpoint),
-                                "--port", str(port), "--device", device], stdout=subprocess.PIPE, text=True,
-                               cwd=CHECKOUT)
-    first = process.stdout.readline()
-    if not first.startswith("listening on "):
-        process.kill()
-        raise SystemExit(f"the policy server did not start: {first}")
-    return process, first.split()[2]
-
-
-def summarise(results: Path) -> dict:
-    """Episodes, successes, rate, 95 % Wilson interval and errors of a run folder, and per food."""
-    from culinarycut.bench.stats import wilson_interval
-    with sqlite3.connect(results / "results.sqlite") as db:
-        rows = db.execute("SELECT food, outcome FROM episodes").fetchall()
-
-    def numbers(outcomes: list[str]) -> dict:
-        n, s = len(outcomes), sum(o == "success" for o in outcomes)
-        low, high = wilson_interval(s, n)
-        return {"episodes": n, "successes": s, "rate": s / n if n else None, "ci95": [low, high],
-                "errors": sum(o == "error" for o in outcomes)}
-    out = numbers([o for _, o in rows])
-    out["by_food"] = {food: numbers([o for f, o in rows if f == food]) for food in sorted({f for f, _ in rows})}
-    return out
 
 
 def evaluate(study: Study, args, url: str | None, policy: str, suite: str) -> dict | None:
@@ -199,7 +123,7 @@ def write_report(study: Study, args, results: dict, docs: Path) -> None:
     stages = sorted(report["stages_wall_s"].items(), key=lambda item: (order.get(item[0], 3), item[0]))
     lines += [f"| {k} | {v:.1f} |" for k, v in stages]
     (docs / "baselines.md").write_text("\n".join(lines) + "\n")
-    log(f"wrote {docs / 'baselines.md'} and baselines.json")
+    study.log(f"wrote {docs / 'baselines.md'} and baselines.json")
 
 
 def main(argv=None) -> int:
@@ -230,7 +154,7 @@ def main(argv=None) -> int:
                "steps": args.steps, "batch_size": args.batch_size, "suites": args.suites.split(","),
                "trials": args.trials, "tasks": args.tasks, "floor": [p for p in args.floor.split(",") if p],
                "note": args.note}
-    study = Study(args.out.resolve(), options)
+    study = Study(args.out.resolve(), options, DATA_OPTIONS, "baseline_study")
     root = study.root
     generate = ["-m", "culinarycut", "data", "generate", "--out", root / "data", "--styles", args.styles,
                 "--states", args.states, "--episodes-per-task", args.episodes_per_task, "--cameras", "front,wrist",
@@ -244,7 +168,7 @@ def main(argv=None) -> int:
     study.stage("train", ["-m", "culinarycut_learning", "train", "--data", root / "export", "--out", root / "run",
                           "--steps", args.steps, "--batch-size", args.batch_size, "--image-size", args.image_size,
                           "--seed", args.seed, "--device", args.device])
-    process, url = serve(root / "run", args.device, policy_port(study, args.port))
+    process, url = serve(root / "run", args.device, study.port(wanted=args.port))
     results: dict[str, dict] = {}
     try:
         for suite in options["suites"]:

@@ -497,3 +497,24 @@ def test_bench_run_through_the_wrapper_around_the_oracle(address, tmp_path):
     for key in ("steps", "end_reason", "outcome"):
         assert row[key] == oracle[key], (key, row[key], oracle[key])
     assert row["peak_force_n"] == pytest.approx(oracle["peak_force_n"], rel=1e-2), (row, oracle)
+
+
+def test_the_saw_study_asks_for_the_saw_tasks_it_names(tmp_path):
+    # learning/scripts/cstm_saw_study.py writes its own suite of saw cuts: the runner's loader reads it as the
+    # foods x states given, every task a saw cut; a state it cannot say is refused before anything runs.
+    sys.path.insert(0, str(REPO_ROOT / "learning" / "scripts"))
+    from cstm_saw_study import main as study_main, suite_text
+    from culinarycut.bench.suite import load_suite
+    path = tmp_path / "cstm-saw.toml"
+    path.write_text(suite_text(["cucumber", "banana"], ["middle", "ratio-0.3"], trials=2))
+    suite = load_suite(str(path))
+    assert sorted(t.name for t in suite.tasks) == ["banana/saw/middle", "banana/saw/ratio-0.3-left",
+                                                   "cucumber/saw/middle", "cucumber/saw/ratio-0.3-left"]
+    assert {(t.style, t.trials, t.quality) for t in suite.tasks} == {("saw", 2, "draft")}
+    with pytest.raises(SystemExit, match="split-3 is neither middle nor ratio-R"):
+        suite_text(["cucumber"], ["split-3"], trials=1)
+    # Another data option for an existing study folder is refused, naming it.
+    (tmp_path / "study").mkdir()
+    (tmp_path / "study" / "study.json").write_text(json.dumps({"options": {"data": "elsewhere"}, "stages": {}}))
+    with pytest.raises(SystemExit, match=r"other data options \(data, foods"):
+        study_main(["--out", str(tmp_path / "study"), "--data", str(tmp_path), "--server", "127.0.0.1:1"])

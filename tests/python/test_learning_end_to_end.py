@@ -8,6 +8,7 @@ Then reproducibility: the same seed gives the same weights (another seed does no
 with SIGKILL between checkpoints and started again resumes to the weights of an uninterrupted run."""
 from __future__ import annotations
 
+import json
 import os
 import signal
 import sqlite3
@@ -134,3 +135,16 @@ def test_a_killed_run_resumes_to_the_weights_of_an_uninterrupted_one(trained, ex
     # Another setting for the same folder is refused, naming it.
     refused = train(export, out, "--lr", "0.001")
     assert refused.returncode == 1 and "lr: 0.0003 -> 0.001" in refused.stderr, refused.stderr
+
+
+def test_training_can_keep_to_some_cut_styles(trained, export):
+    # The export holds normal cuts only: --styles normal trains on all of them, saw on none (refused, naming the
+    # style), and a name that is no style is refused before any data is read.
+    out = export.parent / "run-normal"
+    ok(train(export, out, "--styles", "normal"))
+    saved = json.loads((out / "config.json").read_text())
+    assert saved["styles"] == ["normal"] and same(weights(trained), weights(out))
+    none = train(export, export.parent / "run-saw", "--styles", "saw")
+    assert none.returncode == 1 and "no episodes to train on in the styles saw" in none.stderr, none.stderr
+    bad = train(export, export.parent / "run-bad", "--styles", "sawing")
+    assert bad.returncode == 2 and "sawing is not a cut style" in bad.stderr, bad.stderr
