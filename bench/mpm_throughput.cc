@@ -2,16 +2,13 @@
 // (damaged corotated stress, two-sided blade contact, force sensing) on a block being cut, at
 // 10k, 100k and 1M particles, 1 and 2 threads, float32; with P2G / grid / G2P times as counters.
 //
-//   build/bench/bench_mpm_throughput --benchmark_counters_tabular=true [--simd=x86-64]
+//   build/bench/bench_mpm_throughput --benchmark_counters_tabular=true [--simd=x86-64]  (main: simd_benchmark_main.cc)
 //   bench/mpm_throughput_report.py   (runs it and writes docs/benchmarks/mpm_throughput.md)
 #include <cmath>
-#include <cstdio>
-#include <string>
 #include <vector>
 
 #include <benchmark/benchmark.h>
 
-#include "sim/mpm/kernel_instruction_set.h"
 #include "sim/mpm/solver.h"
 
 namespace culinarycut::mpm {
@@ -122,31 +119,3 @@ BENCHMARK(BM_FmaThroughput)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTi
 
 }  // namespace
 }  // namespace culinarycut::mpm
-
-// Google Benchmark's main, plus --simd=LEVEL (auto, x86-64, x86-64-v3, ...): the MPM kernels' instruction set,
-// as the server's and cc-cut's --simd choose it; the JSON's context says which ran ("simd").
-int main(int argc, char** argv) {
-  std::string simd = "auto";
-  std::vector<char*> rest;
-  for (int i = 0; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg.rfind("--simd=", 0) == 0) {
-      simd = arg.substr(7);
-    } else {
-      rest.push_back(argv[i]);
-    }
-  }
-  try {
-    culinarycut::mpm::RequireInstructionSet(simd, argv);  // may start the benchmark again
-  } catch (const std::exception& error) {
-    std::fprintf(stderr, "bench_mpm_throughput: %s\n", error.what());
-    return 2;
-  }
-  benchmark::AddCustomContext("simd", culinarycut::mpm::KernelInstructionSet());
-  int count = static_cast<int>(rest.size());
-  benchmark::Initialize(&count, rest.data());
-  if (benchmark::ReportUnrecognizedArguments(count, rest.data())) return 2;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}
