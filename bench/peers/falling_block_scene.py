@@ -28,7 +28,7 @@ def arguments(description: str) -> argparse.Namespace:
     parser.add_argument("--drop-speed", type=float, required=True, help="the block's starting downward speed, m/s")
     parser.add_argument("--steps", type=int, required=True, help="timed steps")
     parser.add_argument("--warmup", type=int, default=3, help="steps before the timing (kernels compile on the first)")
-    parser.add_argument("--cache", default=None, help="Warp's folder for compiled kernels (Taichi keeps none)")
+    parser.add_argument("--cache", default=None, help="folder for compiled kernels (Taichi: none kept without it)")
     return parser.parse_args()
 
 

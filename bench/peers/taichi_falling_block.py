@@ -16,9 +16,10 @@ from falling_block_scene import Timer, arguments, centre_height, inside_grid, la
 
 args = arguments(__doc__.strip().splitlines()[0])
 s = scene(args)
-# No offline cache: nothing of this run outlives the virtualenv (the warm-up steps take the compile time instead).
-ti.init(arch=ti.cpu, cpu_max_num_threads=args.threads, default_fp=ti.f32, offline_cache=False,
-        log_level=ti.WARN)
+# Compiled kernels only into the throwaway folder (--cache), if any; the warm-up steps take the compile time.
+cache = {"offline_cache": True, "offline_cache_file_path": f"{args.cache}/taichi"} if args.cache else \
+    {"offline_cache": False}
+ti.init(arch=ti.cpu, cpu_max_num_threads=args.threads, default_fp=ti.f32, log_level=ti.WARN, **cache)
 
 n = s.side ** 3
 dx, inv_dx, dt = args.dx, 1.0 / args.dx, args.dt

@@ -18,7 +18,7 @@ args = arguments(__doc__.strip().splitlines()[0])
 s = scene(args)
 wp.config.log_level = wp.LOG_WARNING  # stdout carries the JSON line, not the banner and compile times
 if args.cache:
-    wp.config.kernel_cache_dir = args.cache  # compiled kernels stay in the throwaway folder
+    wp.config.kernel_cache_dir = f"{args.cache}/warp"  # compiled kernels stay in the throwaway folder
 wp.init()
 DEVICE = "cpu"
 
