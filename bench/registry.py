@@ -47,6 +47,12 @@ BENCHMARKS: tuple[Benchmark, ...] = (
               "stage split and a roofline", "5-15 min (each configuration waits for an idle machine)",
               ("bench_mpm_throughput",),
               quick_does="10k particles on one thread, the triad and FMA, once, no idle gate"),
+    Benchmark("mpm_peers", "mpm_peers", "benchmarks/mpm_peers.md", "benchmarks/mpm_peers.json",
+              "MPM per core against Taichi's and Warp's CPU backends at equal work: a falling elastic block at 10k and "
+              "100k particles on 1 and 2 threads, interleaved, with the centre of mass's drop compared",
+              "5-10 min, plus installing the peers", ("bench_mpm_falling_block",), quick=None,
+              why_not_quick="it installs Taichi and Warp from PyPI into a throwaway virtualenv (about 700 MB), and CI "
+                            "has no network for that; --quick runs it on 10k particles, one thread, one round"),
     Benchmark("render_throughput", "render_throughput_report", "benchmarks/render_throughput.md",
               "benchmarks/render_throughput.json",
               "three-camera sets per second on llvmpipe with a 100k-particle food's surface, 224 and 640 px",
