@@ -113,6 +113,9 @@ def main() -> int:
         f"**Target** (100k particles, 2 threads, float32): {TARGET_PARTICLE_STEPS_PER_S / 1e6:.0f} M particle-steps/s. "
         f"Measured: {achieved / 1e6:.2f} M: target {met}.",
         "",
+        "Against its peers (Taichi's and Warp's CPU backends) at equal work, a falling elastic block in all three: "
+        "[mpm_peers.md](mpm_peers.md).",
+        "",
         "## Roofline estimate",
         f"- Memory: a STREAM-like triad on 2 threads moves {triad / 1e9:.1f} GB/s. One particle-step streams about "
         f"{BYTES_PER_PARTICLE_STEP} bytes of particle state (setup reads x twice and v, m once; the stress reads F, C, x, "
