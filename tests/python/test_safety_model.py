@@ -300,3 +300,25 @@ def test_a_dataset_of_another_quality_is_not_mixed_in(tmp_path, cc_cut):
     assert cli("dataset", "--out", str(out), "--cc-cut", cc_cut, "--speeds", "2", *TINY[2:]).returncode == 0
     other = cli("dataset", "--out", str(out), "--cc-cut", cc_cut, *TINY, "--quality", "standard")
     assert other.returncode == 2 and "--quality" in other.stderr
+
+
+def test_the_engine_a_dataset_names_is_the_binary_and_its_mpm_library(tmp_path):
+    # The physics lives in the MPM library (one build per x86-64 level beside the binary): a rebuilt library is
+    # another engine, and a run's private copy of cc-cut takes the library along where the binary looks for it.
+    from culinarycut.safety.binary import snapshot_cc_cut
+    from culinarycut.safety.dataset import engine_build
+    build = tmp_path / "build"
+    binary = build / "tools" / "cc_cut" / "cc-cut"
+    level = build / "lib" / "glibc-hwcaps" / "x86-64-v3"
+    for path, text in ((binary, "binary"), (build / "lib" / "libculinarycut_mpm.so", "baseline"),
+                       (level / "libculinarycut_mpm.so", "v3")):
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
+    before = engine_build(binary)
+    (level / "libculinarycut_mpm.so").write_text("v3, rebuilt")
+    assert engine_build(binary) != before
+    copy = snapshot_cc_cut(binary, tmp_path / "scratch")
+    assert copy == tmp_path / "scratch" / "tools" / "cc_cut" / "cc-cut"
+    assert (tmp_path / "scratch" / "lib" / "glibc-hwcaps" / "x86-64-v3" / "libculinarycut_mpm.so").read_text() == \
+        "v3, rebuilt"
+    assert engine_build(copy) == engine_build(binary)

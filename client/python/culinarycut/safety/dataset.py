@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from datetime import datetime, timezone
 from pathlib import Path
 
+from culinarycut.safety.binary import engine_files, snapshot_cc_cut
 from culinarycut.safety.cut_run import CutFailed, run_sample
 from culinarycut.safety.sweep import Sample, Sweep
 
@@ -29,9 +30,11 @@ class DatasetMismatch(ValueError):
 
 
 def engine_build(cc_cut: Path) -> str:
-    """cc-cut has no version flag: identify the engine by the binary's own hash."""
-    digest = hashlib.sha256(Path(cc_cut).read_bytes()).hexdigest()
-    return f"cc-cut sha256:{digest[:16]}"
+    """cc-cut has no version flag: identify the engine by the hash of the binary and its MPM library builds."""
+    digest = hashlib.sha256()
+    for path in engine_files(cc_cut):
+        digest.update(path.read_bytes())
+    return f"cc-cut sha256:{digest.hexdigest()[:16]}"
 
 
 def read_header(directory: Path) -> dict:
@@ -121,7 +124,7 @@ def run_sweep(sweep: Sweep, directory: Path, cc_cut: Path, workers: int, progres
     directory.mkdir(parents=True, exist_ok=True)
     scratch = Path(tempfile.mkdtemp(prefix="culinarycut-safety-"))  # cc-cut's outputs, read and removed per cut
     # Every cut of a run uses this copy: a rebuild of the binary during the run cannot mix two engines.
-    cc_cut = Path(shutil.copy2(cc_cut, scratch / "cc-cut"))
+    cc_cut = snapshot_cc_cut(cc_cut, scratch)
     try:
         header = _open_header(directory, sweep, cc_cut)
     except BaseException:
