@@ -12,3 +12,16 @@ def rows(folder: Path) -> list[dict]:
         return [dict(r) for r in db.execute("SELECT * FROM episodes ORDER BY task, trial")]
     finally:
         db.close()
+
+
+def rows_so_far(folder: Path) -> list[dict]:
+    """Rows of a run in progress, or of one refused before it stored anything: the runner may not have created
+    the file yet, or not yet its tables."""
+    if not (folder / "results.sqlite").exists():
+        return []
+    try:
+        return rows(folder)
+    except sqlite3.OperationalError as error:
+        if "no such table" in str(error):
+            return []
+        raise

@@ -20,7 +20,7 @@ import pytest
 
 from bench_cli import bench, with_tests_on_path
 from conftest import start_server, stop_server
-from stored_runs import rows
+from stored_runs import rows, rows_so_far
 
 # What must not differ between two runs of the same episodes (the same build, seeds and thread count).
 OUTCOME_COLUMNS = ("task", "trial", "seed", "instruction", "outcome", "end_reason", "steps", "pieces", "cuts",
@@ -44,16 +44,6 @@ food = "cucumber"
 state = "middle"
 topology = [true, false]
 """
-
-
-def rows_so_far(folder: Path) -> list[dict]:
-    """Rows of a run in progress: the runner may have created the file but not yet its tables."""
-    try:
-        return rows(folder)
-    except sqlite3.OperationalError as error:
-        if "no such table" in str(error):
-            return []
-        raise
 
 
 def outcomes(folder: Path) -> list[tuple]:
@@ -106,7 +96,7 @@ def dask_cluster(worker_env: dict, preload: str | None = None, scheduler_env: di
 def wait_for_rows(folder: Path, count: int, proc: subprocess.Popen, timeout_s: float = 300) -> None:
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline:
-        if (folder / "results.sqlite").exists() and len(rows_so_far(folder)) >= count:
+        if len(rows_so_far(folder)) >= count:
             return
         assert proc.poll() is None, "the runner ended before it was stopped"
         time.sleep(0.2)

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 import platform
-import sqlite3
 import subprocess
 import sys
 from pathlib import Path
@@ -13,6 +12,7 @@ from pathlib import Path
 import pytest
 
 from bench_cli import bench
+from stored_runs import rows_so_far
 from culinarycut import Client
 from culinarycut.launch import ServerProcess, server_binary
 from culinarycut.safety.binary import cc_cut_binary
@@ -84,13 +84,4 @@ def test_the_server_reports_its_level_and_a_run_refuses_to_mix_levels(address, t
         assert mixed.returncode == 1, mixed.stderr
         assert "instruction sets would mix" in mixed.stderr
         assert f"{BASELINE})" in mixed.stderr and f"{shared_level})" in mixed.stderr
-        assert not rows_if_any(tmp_path / "mixed")  # refused before the first episode
-
-
-def rows_if_any(folder: Path) -> list:
-    database = folder / "results.sqlite"
-    if not database.exists():
-        return []
-    with sqlite3.connect(database) as db:
-        tables = {name for (name,) in db.execute("SELECT name FROM sqlite_master WHERE type = 'table'")}
-        return db.execute("SELECT task FROM episodes").fetchall() if "episodes" in tables else []
+        assert not rows_so_far(tmp_path / "mixed")  # refused before the first episode
