@@ -23,7 +23,7 @@ import numpy as np
 if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
     sys.path[0] = str(Path(__file__).resolve().parents[1])
 from bench.harness import ROOT, arguments, bench_binary, build_id, dated_machine_info, docs_for  # noqa: E402
-from bench.harness import interleaved, missing, spread  # noqa: E402
+from bench.harness import google_benchmark, interleaved, missing, spread  # noqa: E402
 
 PAGE, RESULTS = "benchmarks/mpm_peers.md", "benchmarks/mpm_peers.json"
 REQUIREMENTS = ROOT / "requirements" / "bench-peers.txt"
@@ -58,10 +58,7 @@ def install_peers(folder: Path) -> Path:
 
 def ours(binary: Path, particles: int, threads: int) -> dict:
     """One run of BM_FallingBlock: its counters (the rate, the settings, the drop) and the kernels' level."""
-    done = subprocess.run([str(binary), "--benchmark_format=json",
-                           f"--benchmark_filter=BM_FallingBlock/particles:{particles}/threads:{threads}/"],
-                          check=True, capture_output=True, text=True)
-    data = json.loads(done.stdout)
+    data = google_benchmark(binary, f"--benchmark_filter=BM_FallingBlock/particles:{particles}/threads:{threads}/")
     if len(data["benchmarks"]) != 1:
         raise RuntimeError(f"{binary.name} has no BM_FallingBlock at {particles} particles, {threads} threads")
     return {**data["benchmarks"][0], "simd": data["context"].get("simd")}

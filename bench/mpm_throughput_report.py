@@ -7,15 +7,14 @@ Usage: .venv/bin/python bench/mpm_throughput_report.py [--binary build/bench/ben
 """
 from __future__ import annotations
 
-import json
 import platform
-import subprocess
 import sys
 from pathlib import Path
 
 if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
     sys.path[0] = str(Path(__file__).resolve().parents[1])
-from bench.harness import arguments, bench_binary, cpu_model, docs_for, missing, wait_for_idle  # noqa: E402
+from bench.harness import (arguments, bench_binary, cpu_model, docs_for, google_benchmark, missing,  # noqa: E402
+                           wait_for_idle)
 
 PAGE, RESULTS = "benchmarks/mpm_throughput.md", "benchmarks/mpm_throughput.json"
 TARGET_PARTICLE_STEPS_PER_S = 10e6  # the engine's throughput target: 100k particles, 2 threads, float32
@@ -33,10 +32,8 @@ FLOPS_PER_PARTICLE_STEP = 1400
 
 
 def run(binary: Path, benchmark_filter: str, repetitions: int) -> dict:
-    out = subprocess.run([str(binary), "--benchmark_format=json", f"--benchmark_repetitions={repetitions}",
-                          "--benchmark_report_aggregates_only=true", f"--benchmark_filter={benchmark_filter}"],
-                         check=True, capture_output=True, text=True)
-    return json.loads(out.stdout)
+    return google_benchmark(binary, f"--benchmark_repetitions={repetitions}", "--benchmark_report_aggregates_only=true",
+                            f"--benchmark_filter={benchmark_filter}")
 
 
 def main() -> int:

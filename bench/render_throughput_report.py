@@ -10,13 +10,12 @@ from __future__ import annotations
 
 import json
 import os
-import subprocess
 import sys
 from pathlib import Path
 
 if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
     sys.path[0] = str(Path(__file__).resolve().parents[1])
-from bench.harness import arguments, bench_binary, cpu_model, docs_for, missing  # noqa: E402
+from bench.harness import arguments, bench_binary, cpu_model, docs_for, google_benchmark, missing  # noqa: E402
 
 PAGE, RESULTS = "benchmarks/render_throughput.md", "benchmarks/render_throughput.json"
 QUICK_FILTER = "side:224/cut:0/kitchen:0/all_channels:0"  # the smoke pass: the target's configuration, once
@@ -29,12 +28,9 @@ def run(binary: Path, quick: bool = False) -> dict:
     # Surface extraction uses OpenMP; idle OpenMP workers spinning after each parallel region take
     # the cores llvmpipe rasterises on. Passive waiting is what a rendering server should run with.
     env = dict(os.environ, OMP_WAIT_POLICY=os.environ.get("OMP_WAIT_POLICY", "passive"))
-    out = subprocess.run([str(binary), "--benchmark_format=json",
-                          f"--benchmark_repetitions={1 if quick else REPETITIONS}",
-                          "--benchmark_report_aggregates_only=true",
-                          *([f"--benchmark_filter={QUICK_FILTER}"] if quick else [])],
-                         check=True, capture_output=True, text=True, env=env)
-    return json.loads(out.stdout)
+    return google_benchmark(binary, f"--benchmark_repetitions={1 if quick else REPETITIONS}",
+                            "--benchmark_report_aggregates_only=true",
+                            *([f"--benchmark_filter={QUICK_FILTER}"] if quick else []), env=env)
 
 
 def describe(name: str) -> tuple[str, str, str, str]:

@@ -11,8 +11,6 @@ Writes docs/benchmarks/simd_lever.{md,json}.
 """
 from __future__ import annotations
 
-import json
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
@@ -22,7 +20,8 @@ from culinarycut.launch import ServerProcess, server_binary
 
 if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
     sys.path[0] = str(Path(__file__).resolve().parents[1])
-from bench.harness import ROOT, arguments, bench_binary, dated_machine_info, docs_for, interleaved, missing  # noqa: E402
+from bench.harness import (ROOT, arguments, bench_binary, dated_machine_info, docs_for, google_benchmark,  # noqa: E402
+                           interleaved, missing)
 from bench.harness.machine import kernel_instruction_set  # noqa: E402
 from bench.lib import quick  # noqa: E402
 from bench.lib.suite_runs import rounds_totals, run_suite  # noqa: E402
@@ -36,11 +35,8 @@ PARTICLES = (10_000, 100_000)
 
 def substep_ms(binary: Path, level: str, particles: int, min_time_s: float) -> float:
     """One thread's milliseconds per cutting substep at `level` (bench_mpm_throughput --simd)."""
-    done = subprocess.run([str(binary), f"--simd={level}", "--benchmark_format=json",
-                           f"--benchmark_min_time={min_time_s}",
-                           f"--benchmark_filter=BM_CuttingSubstep/particles:{particles}/threads:1/"],
-                          check=True, capture_output=True, text=True)
-    data = json.loads(done.stdout)
+    data = google_benchmark(binary, f"--simd={level}", f"--benchmark_min_time={min_time_s}",
+                            f"--benchmark_filter=BM_CuttingSubstep/particles:{particles}/threads:1/")
     if data["context"].get("simd") != level:
         raise RuntimeError(f"bench_mpm_throughput --simd={level} ran {data['context'].get('simd')}")
     return data["benchmarks"][0]["real_time"]  # ms: the benchmark reports in milliseconds
