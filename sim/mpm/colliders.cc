@@ -198,12 +198,12 @@ Eigen::AlignedBox3d KnifeSdf::HandleBounds(double margin_m) const {
 }
 
 BoxSdf::BoxSdf(const Eigen::Vector3d& size_m, const RigidMotion& motion)
-    : half_size_m_(0.5 * size_m), motion_(motion) {
+    : half_size_m_(0.5 * size_m), motion_(motion), world_to_local_(motion.pose.inverse()) {
   RequirePositive(size_m.minCoeff(), "box size_m");
 }
 
 SdfSample BoxSdf::Sample(const Eigen::Vector3d& world_m) const {
-  SdfSample sample = LocalBoxSdf(motion_.pose.inverse() * world_m, half_size_m_);
+  SdfSample sample = LocalBoxSdf(world_to_local_ * world_m, half_size_m_);
   sample.normal = motion_.pose.linear() * sample.normal;
   return sample;
 }

@@ -93,11 +93,16 @@ class BoxSdf {
   SdfSample Sample(const Eigen::Vector3d& world_m) const;
   Eigen::AlignedBox3d Bounds(double margin_m) const;
   const RigidMotion& motion() const { return motion_; }
-  void SetMotion(const RigidMotion& motion) { motion_ = motion; }
+  void SetMotion(const RigidMotion& motion) {
+    motion_ = motion;
+    world_to_local_ = motion.pose.inverse();
+  }
 
  private:
   Eigen::Vector3d half_size_m_;
   RigidMotion motion_;
+  // Inverse of motion_.pose, kept: the grid update samples the board at every node near it.
+  Eigen::Isometry3d world_to_local_ = Eigen::Isometry3d::Identity();
 };
 
 class HalfSpaceSdf {

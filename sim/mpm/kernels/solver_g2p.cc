@@ -170,9 +170,16 @@ void Solver<Real>::GridToParticles(const SubstepContext& context, const ContactS
     for (int axis = 0; axis < 3; ++axis) v[axis][l] = sums.v[axis];
   };
 
+  const bool prefetch = n >= kPrefetchFromParticles;
   // Particles q0 .. q0 + W - 1 (W a compile-time constant, so the lane loops vectorise).
   auto update_batch = [&](std::size_t q0, auto width, ParticleTotals& totals) {
     constexpr int W = decltype(width)::value;
+    // F is read and written, C written: past the caches the loop waits on F's loads unless it asks
+    // ahead (0.92x the time at 100k particles); within them asking costs 2 % (10k).
+    for (int k = 0; k < 9 && W > 1 && prefetch; ++k) {
+      __builtin_prefetch(F_of[k] + q0 + kPrefetchAhead, 1);
+      __builtin_prefetch(C_of[k] + q0 + kPrefetchAhead, 1);
+    }
     Real lane_position[3][W];
     for (int axis = 0; axis < 3; ++axis) {
       for (int l = 0; l < W; ++l) lane_position[axis][l] = position[axis][q0 + l];

@@ -26,6 +26,12 @@ constexpr double kContactStrengthScale = 0.35;
 // Materials a solver with a Maxwell branch may have (G2P keeps their branches in a table on the stack).
 constexpr std::size_t kMaxMaxwellMaterials = 16;
 
+// How far ahead (particles) the stress and G2P loops prefetch the 3x3 fields: their 18 streams of F
+// and C are more than the hardware prefetcher follows. Prefetching past an array's end is harmless.
+constexpr std::size_t kPrefetchAhead = 128;
+// G2P prefetches only for this many particles and more: fewer keep their fields in the caches.
+constexpr std::size_t kPrefetchFromParticles = 32768;
+
 // Nodes split by blade side only once the edge is this far below them (in dx); closer to the edge
 // the node is pushed by the edge itself (edge_resistance.h).
 constexpr double kSplitAboveEdgeCells = 0.5;

@@ -12,11 +12,6 @@
 #include "sim/mpm/physics/viscoelasticity.h"
 
 namespace culinarycut::mpm {
-namespace {
-
-constexpr std::size_t kPrefetchAhead = 128;  // particles; prefetching past an array's end is harmless
-
-}  // namespace
 
 // Particles [begin, end), a chunk of at most kChunk (P2G's scatter takes the chunks and then the
 // blocks from one queue). For the frozen load (`frozen_load`), a particle at rest has relaxed: the
@@ -132,7 +127,6 @@ double Solver<Real>::ComputeAffineMomentum(const SubstepContext& context, std::s
       Real mu[kLanes], lambda[kLanes], lambda_undamaged[kLanes], volume_scale[kLanes], mass[kLanes],
           volume[kLanes];
       Real yield_strain_sq[kLanes], green_sq[kLanes], energy[kLanes];
-      // 18 streams of F and C: more than the hardware prefetcher follows, so ask ahead.
       for (int k = 0; k < 9; ++k) {
         __builtin_prefetch(p.F[k].data() + q + kPrefetchAhead);
         __builtin_prefetch(p.C[k].data() + q + kPrefetchAhead);
