@@ -10,12 +10,68 @@
 #include "mpm_fixtures.h"
 #include "sim/mpm/physics/constitutive.h"
 #include "sim/mpm/solver.h"
+#include "sim/mpm/kernels/polar_batch.h"
 #include "sim/mpm/kernels/stress_batch.h"
 
 namespace culinarycut::mpm {
 namespace {
 
 using Matrix = Matrix3<double>;
+
+// F = R S with a known rotation R and symmetric stretch S (principal stretches along rotated axes).
+Matrix3<float> KnownDeformation(const Eigen::Vector3d& axis, double angle_rad, const Eigen::Vector3d& stretches,
+                                const Eigen::Matrix3d& principal_axes, Matrix3<double>* rotation) {
+  *rotation = Eigen::AngleAxisd(angle_rad, axis.normalized()).toRotationMatrix();
+  const Eigen::Matrix3d S = principal_axes * stretches.asDiagonal() * principal_axes.transpose();
+  return (*rotation * S).cast<float>();
+}
+
+TEST_CASE("the batched polar rotation finds the known rotation, near rest and at large stretches",
+          "[mpm][constitutive]") {
+  // One batch mixes a particle at rest with ones at the J clamp's bounds and beyond, sheared along
+  // tilted axes: the batch iterates until its slowest lane has converged, and every lane must come
+  // out at the rotation F was built from.
+  const Eigen::Matrix3d tilted = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  const struct {
+    Eigen::Vector3d axis;
+    double angle_rad;
+    Eigen::Vector3d stretches;
+    Eigen::Matrix3d principal_axes;
+  } cases[8] = {
+      {{0, 0, 1}, 0.0, {1, 1, 1}, Eigen::Matrix3d::Identity()},
+      {{0, 0, 1}, 0.3, {1.001, 0.999, 1.0005}, tilted},
+      {{1, 1, 0}, 1.2, {1.1, 0.95, 1.0}, tilted},
+      {{1, 0, 0}, 2.5, {1.6, 1.0, 1.0}, Eigen::Matrix3d::Identity()},
+      {{0, 1, 1}, -0.8, {0.6, 1.0, 1.0}, tilted},
+      {{3, -1, 2}, 3.0, {2.5, 0.8, 0.5}, tilted},
+      {{1, 1, 1}, 0.05, {4.0, 0.5, 0.5}, tilted},
+      {{0, 1, 0}, -2.0, {0.3, 1.2, 2.0}, Eigen::Matrix3d::Identity()},
+  };
+  float F[9][8], R[9][8];
+  Matrix3<double> expected[8];
+  for (int l = 0; l < 8; ++l) {
+    const Matrix3<float> deformation =
+        KnownDeformation(cases[l].axis, cases[l].angle_rad, cases[l].stretches, cases[l].principal_axes, &expected[l]);
+    for (int k = 0; k < 9; ++k) F[k][l] = deformation(k / 3, k % 3);
+  }
+  PolarRotationBatch<float, 8>(F, R);
+  for (int l = 0; l < 8; ++l) {
+    Matrix3<double> found;
+    for (int k = 0; k < 9; ++k) found(k / 3, k % 3) = R[k][l];
+    INFO("lane " << l << ": |R - R_known| = " << (found - expected[l]).norm());
+    CHECK((found - expected[l]).norm() < 2e-6);
+    CHECK((found.transpose() * found - Matrix3<double>::Identity()).norm() < 2e-6);
+  }
+  // A batch of particles at rest stops after one iteration with the rotation itself.
+  float rest[9][8], rest_R[9][8];
+  for (int k = 0; k < 9; ++k) {
+    for (int l = 0; l < 8; ++l) rest[k][l] = k % 4 == 0 ? 1.0f : 0.0f;
+  }
+  PolarRotationBatch<float, 8>(rest, rest_R);
+  for (int k = 0; k < 9; ++k) {
+    for (int l = 0; l < 8; ++l) CHECK(rest_R[k][l] == rest[k][l]);
+  }
+}
 
 // Kirchhoff stress (Pa) of a particle with deformation F and damage D, on the scalar path.
 Matrix Stress(const Material& material, const Matrix& F, double damage) {
