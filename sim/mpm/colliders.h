@@ -91,6 +91,10 @@ class BoxSdf {
  public:
   BoxSdf(const Eigen::Vector3d& size_m, const RigidMotion& motion);
   SdfSample Sample(const Eigen::Vector3d& world_m) const;
+  // Strictly inside the box: exactly where Sample's distance is negative, for a fraction of its cost.
+  bool Contains(const Eigen::Vector3d& world_m) const {
+    return ((world_to_local_ * world_m).cwiseAbs() - half_size_m_).maxCoeff() < 0.0;
+  }
   Eigen::AlignedBox3d Bounds(double margin_m) const;
   const RigidMotion& motion() const { return motion_; }
   void SetMotion(const RigidMotion& motion) {

@@ -75,14 +75,13 @@ void Solver<Real>::UpdateGrid(const SubstepContext& context, ContactState* conta
       if (!food) food = &contact_materials.At(x);
       return *food;
     };
-    if (board_ && board_box.contains(x)) {
+    // Most nodes in the board's bounding box lie on top of it: a cheap inside test first.
+    if (board_ && board_box.contains(x) && board_->Contains(x)) {
       const SdfSample sample = board_->Sample(x);
-      if (sample.distance_m < 0.0) {
-        const Eigen::Vector3d before = v;
-        if (ResolveContact(sample.normal, board_->motion().VelocityAt(x), food_at_node().board_friction,
-                           use_friction, &v, &approach)) {
-          if (sense_force) totals->board_impulse += m * (v - before);
-        }
+      const Eigen::Vector3d before = v;
+      if (ResolveContact(sample.normal, board_->motion().VelocityAt(x), food_at_node().board_friction,
+                         use_friction, &v, &approach)) {
+        if (sense_force) totals->board_impulse += m * (v - before);
       }
     }
     if (table_ && x.z() <= table_->height_m()) {

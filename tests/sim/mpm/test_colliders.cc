@@ -290,6 +290,29 @@ TEST_CASE("box SDF is exact at faces, edges, corners and inside", "[mpm][collide
   CHECK(box.Bounds(0.001).sizes().isApprox(Eigen::Vector3d(0.402, 0.302, 0.022), 1e-12));
 }
 
+TEST_CASE("the box's inside test agrees with its SDF's sign, also after the box moves", "[mpm][colliders]") {
+  // The grid update asks Contains before it samples the board: the two must never disagree.
+  RigidMotion motion;
+  motion.pose = SomePose();
+  BoxSdf box(Eigen::Vector3d(0.4, 0.3, 0.02), RigidMotion{});
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> local(-0.22, 0.22);
+  int inside = 0;
+  for (int pose = 0; pose < 2; ++pose) {
+    for (int i = 0; i < 20000; ++i) {
+      // Points near the faces of the 2 cm thin box (z squeezed towards it) as well as far from it.
+      const Eigen::Vector3d p(local(random), local(random), 0.1 * local(random));
+      const Eigen::Vector3d world = box.motion().pose * p;
+      const bool contains = box.Contains(world);
+      CHECK(contains == (box.Sample(world).distance_m < 0.0));
+      inside += contains;
+    }
+    box.SetMotion(motion);  // the second round with the box turned and moved
+  }
+  CHECK(inside > 4000);  // both answers were exercised
+  CHECK_FALSE(box.Contains(motion.pose * Eigen::Vector3d(0.2, 0.0, 0.0)));  // on a face: not inside
+}
+
 TEST_CASE("the table is the half-space below its height", "[mpm][colliders]") {
   const HalfSpaceSdf table(0.75);
   CHECK(table.Sample({1.0, -2.0, 0.8}).distance_m == Approx(0.05));
