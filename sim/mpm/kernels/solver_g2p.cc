@@ -286,6 +286,15 @@ void Solver<Real>::GridToParticles(const SubstepContext& context, const ContactS
       J[l] = Determinant3(F, l);  // what the clamp achieved, not what it aimed at
       ++totals.j_clamps;
     }
+    // A fully broken particle has no shear stiffness (mu (1 - D) = 0), so its stress depends on J alone
+    // (constitutive.h): it keeps J^(1/3) I. Else shear flow past it stretches F without bound while
+    // J stays clamped, until the polar decomposition's float cofactors cancel to nothing (a random
+    // policy's sweep through a cucumber: |F| 3,000, then NaN). Its stress and J are unchanged by this.
+    for (int l = 0; l < W; ++l) {
+      if (!(damage[q0 + l] >= Real(1))) continue;
+      const Real stretch = std::cbrt(J[l]);
+      for (int k = 0; k < 9; ++k) F[k][l] = k % 4 == 0 ? stretch : Real(0);
+    }
     for (int k = 0; k < 9; ++k) {
       for (int l = 0; l < W; ++l) F_of[k][q0 + l] = F[k][l];
     }

@@ -180,5 +180,37 @@ TEST_CASE("a fully damaged block on the board is not crushed by its own weight",
   CHECK(j_min_no_lambda < 0.9);
 }
 
+TEST_CASE("a fully broken block sheared hard keeps only its volume change, finite", "[mpm][constitutive]") {
+  // Broken food's stress depends on J alone, so its F is kept as J^(1/3) I. Sheared at 50 / s for
+  // 50 ms (F_xz would reach 2.5 if it kept the shape), its F must stay isotropic and finite, with the
+  // same J as the shear's volume change gives: none, up to the flow's own compression.
+  SolverConfig config;
+  Solver<float> solver(config, {testing::SoftMaterial(5e4, 0.3)});
+  testing::AddBlock<float>({0.48, -0.02, 0.02}, {0.52, 0.02, 0.04}, config.dx_m, 2, 1000.0, &solver.particles());
+  Particles<float>& p = solver.particles();
+  for (std::size_t q = 0; q < p.size(); ++q) {
+    p.damage[q] = 1.0f;
+    p.velocity[0][q] = 50.0f * (p.position[2][q] - 0.03f);  // m/s: v_x = 50 (z - 0.03 m)
+  }
+  const double dt_s = solver.StableTimestep();  // the wave speed bounds it: the flow is at most 0.5 m/s
+  for (double t_s = 0.0; t_s < 0.05; t_s += dt_s) solver.Substep(dt_s);
+  double largest_shear = 0.0, j_low = 10.0, j_high = 0.0;
+  bool finite = true;
+  for (std::size_t q = 0; q < p.size(); ++q) {
+    Matrix3<double> F;
+    for (int k = 0; k < 9; ++k) F(k / 3, k % 3) = p.F[k][q];
+    finite = finite && F.allFinite();
+    const double stretch = std::cbrt(F.determinant());
+    largest_shear = std::max(largest_shear, (F - stretch * Matrix3<double>::Identity()).norm());
+    j_low = std::min(j_low, F.determinant());
+    j_high = std::max(j_high, F.determinant());
+  }
+  INFO("largest |F - J^(1/3) I| " << largest_shear << ", J in [" << j_low << ", " << j_high << "]");
+  CHECK(finite);
+  CHECK(largest_shear < 1e-6);
+  CHECK(j_low > config.j_min);
+  CHECK(j_high < config.j_max);
+}
+
 }  // namespace
 }  // namespace culinarycut::mpm
