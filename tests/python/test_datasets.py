@@ -520,3 +520,19 @@ def test_scenes_and_topology_are_dataset_options(tmp_path):
         store.claim_config(both.to_json(), {})
         with pytest.raises(RuntimeError, match=r"differs in scenes, topology\); give the same options"):
             store.claim_config(table.to_json(), {})
+
+
+def test_ratio_states_from_either_end():
+    """`--states ratio-0.3-right` asks for the cut measured from the right end (the unseen-language and
+    continuous-ratio suites hold both ends); its jobs get their own keys, and a left cut keeps the key it had."""
+    from culinarycut.cli_data import _states
+    states = _states("middle,ratio-0.3,ratio-0.3-left,ratio-0.3-right")
+    assert [s.get("reference") for s in states] == [None, "left", "left", "right"]
+    config = DatasetConfig(name="t", seed=3, tasks=tuple({"style": "normal", **s, "target_object": "cucumber"}
+                                                         for s in states[1:] if s is not states[2]),
+                           episodes_per_task=1)
+    keys = [job.key for job in make_jobs(config)]
+    assert keys == ["planner/normal-ratio-0.3-cucumber/00000", "planner/normal-ratio-0.3-right-cucumber/00000"]
+    for bad in ("ratio-0.3-up", "ratio-", "ratio-x-right"):
+        with pytest.raises(ValueError, match=f"--states: '{bad}' is not middle, ratio-R"):
+            _states(bad)

@@ -13,7 +13,7 @@ MAX_TELEOP_BODY = 64 * 1024  # the largest teleoperation request body (an action
 
 
 def _states(text: str) -> list[dict]:
-    """'all' or a comma list of middle, ratio-0.3, split-4."""
+    """'all' or a comma list of middle, ratio-0.3 (from the left), ratio-0.3-right, split-4."""
     from culinarycut.datasets.jobs import RATIOS, SPLITS
     if text == "all":
         return ([{"state": "ratio", "ratio": r, "reference": "left"} for r in RATIOS] + [{"state": "middle"}]
@@ -25,13 +25,17 @@ def _states(text: str) -> list[dict]:
             if kind == "middle" and not value:
                 states.append({"state": "middle"})
             elif kind == "ratio":
-                states.append({"state": "ratio", "ratio": float(value), "reference": "left"})
+                ratio, _, side = value.partition("-")
+                if side not in ("", "left", "right"):
+                    raise ValueError
+                states.append({"state": "ratio", "ratio": float(ratio), "reference": side or "left"})
             elif kind == "split":
                 states.append({"state": "split", "split_pieces": int(value)})
             else:
                 raise ValueError
         except ValueError:
-            raise ValueError(f"--states: {item!r} is not middle, ratio-R (e.g. ratio-0.3) or split-N") from None
+            raise ValueError(f"--states: {item!r} is not middle, ratio-R[-left|-right] (e.g. ratio-0.3, "
+                             "ratio-0.3-right) or split-N") from None
     return states
 
 
@@ -176,7 +180,8 @@ def register(sub) -> None:
     gen.add_argument("--seed", type=int, default=0, help="dataset seed: every episode's seed derives from it")
     gen.add_argument("--food", action="append", help="target food of the tasks (repeatable; default cucumber)")
     gen.add_argument("--styles", default="all", help="comma list of normal, bias, guillotine, saw, or all")
-    gen.add_argument("--states", default="all", help="comma list of middle, ratio-R, split-N, or all")
+    gen.add_argument("--states", default="all",
+                     help="comma list of middle, ratio-R (from the left), ratio-R-right, split-N, or all")
     gen.add_argument("--episodes-per-task", type=int, default=1, help="planner episodes per task and per demo")
     gen.add_argument("--demo", action="append", help="a demonstration file to replay on randomised scenes (repeatable)")
     gen.add_argument("--randomise-food", action="append", metavar="FOOD",

@@ -102,6 +102,8 @@ def spec_name(spec: dict) -> str:
     state = spec.get("state", "middle")
     if state == "ratio":
         state += f"-{spec['ratio']:g}"
+        if spec.get("reference") == "right":  # left keeps its old name, so existing datasets' keys stay
+            state += "-right"
     elif state == "split":
         state += f"-{spec['split_pieces']}"
     return f"{spec.get('style', 'normal')}-{state}"
