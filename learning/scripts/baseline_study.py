@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """The learned policy's baseline on the benchmark suites, end to end and resumable:
 
-1. generate a training split at draft: cucumber and banana in every style, at the middle and every ratio
-   0.1-0.9 (`culinarycut data generate`, front and wrist cameras; it resumes itself);
+1. generate a training split at draft: cucumber and banana in every style, at the middle, every ratio 0.1-0.9
+   from the left and 0.2, 0.4, 0.6, 0.8 from the right (so the suites' other right-hand ratios are ratios the
+   policy never saw from that end; `culinarycut data generate`, front and wrist cameras; it resumes itself);
 2. export it (robomimic HDF5; again only when the dataset changed);
 3. train (`python -m culinarycut_learning train`; resumes from its last checkpoint);
 4. serve the checkpoint and run each suite through the openpi adapter (`culinarycut bench run`; each
@@ -12,7 +13,7 @@
 
 Killed at any point, the same command goes on where it stopped (every stage is resumable and the stage
 times add up in STUDY/study.json). It commits nothing. At full size (the defaults: 10 episodes per task,
-80 tasks, 20,000 training steps, 5 trials of each suite's tasks) it takes many hours on a 2-core machine:
+112 tasks, 20,000 training steps, 5 trials of each suite's tasks) it takes many hours on a 2-core machine:
 train on a GPU (`--device cuda`) and spread the episodes over servers (`--server` repeated).
 
     python learning/scripts/baseline_study.py --out studies/baseline --server 127.0.0.1:50051
@@ -24,6 +25,7 @@ import datetime
 import json
 import os
 import platform
+import shutil
 import sqlite3
 import subprocess
 import sys
@@ -32,9 +34,11 @@ from pathlib import Path
 from culinarycut_learning.study import CHECKOUT, Study, serve, summarise
 FOODS = ("cucumber", "banana")
 STYLES = ("normal", "bias", "guillotine", "saw")
-STATES = ("middle",) + tuple(f"ratio-{r / 10:g}" for r in range(1, 10))
-SUITES = ("unseen-seeds", "multi-object", "unseen-language", "cross-object", "continuous-ratio", "split-partial",
-          "topology-ablation")
+STATES = (("middle",) + tuple(f"ratio-{r / 10:g}" for r in range(1, 10))
+          + tuple(f"ratio-{r / 10:g}-right" for r in (2, 4, 6, 8)))
+SUITES = ("unseen-seeds", "multi-object", "unseen-language", str(CHECKOUT / "learning" / "suites" / "cross-object.toml"),
+          "continuous-ratio", "split-partial", "topology-ablation")  # cross-object: trained on cucumber and banana
+# learning/suites/two-foods/ holds these suites cut to the two foods and sized for one 2-core session.
 
 
 def kept_episodes(dataset: Path) -> int:
@@ -77,6 +81,37 @@ def evaluate(study: Study, args, url: str | None, policy: str, suite: str) -> di
     return None if code == 2 else summarise(out)
 
 
+def policy_label(policy: str) -> str:
+    return "learned (openpi)" if policy == "learned" else policy
+
+
+def suite_reports(study: Study, results: dict, folder: Path) -> list[str]:
+    """Each suite's runs side by side as `culinarycut bench report` writes them (per task, style, food, group, the
+    ratio radars) in FOLDER/SUITE/, and the success per suite chart; the markdown lines that show them."""
+    from culinarycut.bench.report import load_run, write_report as write_suite_report
+    from culinarycut.bench.report_charts import success_per
+    if folder.exists():
+        shutil.rmtree(folder)  # this study's own folder: reports of suites no longer run go with it
+    rows_of_policy: dict[str, list[dict]] = {}
+    lines = []
+    for suite, policies in results.items():
+        runs = [(policy, study.root / "bench" / f"{suite}-{policy}") for policy, r in policies.items() if r is not None]
+        if not runs:
+            continue
+        write_suite_report([run for _, run in runs], folder / suite, labels=[policy_label(p) for p, _ in runs])
+        for policy, run in runs:
+            rows_of_policy.setdefault(policy_label(policy), []).extend(load_run(run).rows)
+        lines.append(f"- [{suite}]({folder.name}/{suite}/report.md)")
+        lines += [f"  ![{suite}: {chart.stem}]({folder.name}/{suite}/report_files/{chart.name})"
+                  for chart in sorted((folder / suite / "report_files").glob("ratio_radar_*.png"))]
+    chart = success_per(list(rows_of_policy.items()), "suite", "Success per suite (95 % Wilson intervals)",
+                        sort_values=False)
+    (folder / "success_per_suite.png").write_bytes(chart)
+    return [f"![success per suite]({folder.name}/success_per_suite.png)", "",
+            "Each suite's runs side by side (`culinarycut bench report`: success per task, style, food and group, "
+            "cut quality, forces, failures):", ""] + lines
+
+
 def write_report(study: Study, args, results: dict, docs: Path) -> None:
     import torch
     checkpoint = torch.load(study.root / "run" / "checkpoint.pt", map_location="cpu")
@@ -117,6 +152,15 @@ def write_report(study: Study, args, results: dict, docs: Path) -> None:
             rate = f"{100 * r['rate']:.0f} %" if r["rate"] is not None else "-"
             lines.append(f"| {suite} | {policy} | {r['episodes']} | {r['successes']}/{r['episodes']} | {rate} | "
                          f"{100 * r['ci95'][0]:.0f} % - {100 * r['ci95'][1]:.0f} % | {r['errors']} |")
+    lines += ["", "Per food (successes / episodes):", "", "| suite | food | " + " | ".join(
+        policy_label(p) for p in ["learned", *o["floor"]]) + " |", "|---|---|" + "---|" * (1 + len(o["floor"]))]
+    for suite, policies in results.items():
+        foods = sorted({f for r in policies.values() if r for f in r["by_food"]})
+        for food in foods:
+            cells = [(f"{r['by_food'][food]['successes']}/{r['by_food'][food]['episodes']}"
+                      if r and food in r["by_food"] else "-") for r in policies.values()]
+            lines.append(f"| {suite} | {food} | " + " | ".join(cells) + " |")
+    lines += [""] + suite_reports(study, results, docs / "baselines")
     lines += ["", "Wall time per stage (s, accumulated over resumed invocations):", "",
               "| stage | wall (s) |", "|---|---|"]
     order = {"generate": 0, "export": 1, "train": 2}
@@ -132,7 +176,7 @@ def main(argv=None) -> int:
     parser.add_argument("--server", action="append", required=True, metavar="HOST:PORT", help="culinarycut-server (repeatable)")
     parser.add_argument("--foods", default=",".join(FOODS))
     parser.add_argument("--styles", default=",".join(STYLES))
-    parser.add_argument("--states", default=",".join(STATES), help="comma list: middle, ratio-R, split-N")
+    parser.add_argument("--states", default=",".join(STATES), help="comma list: middle, ratio-R, ratio-R-right, split-N")
     parser.add_argument("--episodes-per-task", type=int, default=10)
     parser.add_argument("--image-size", type=int, default=96, help="cameras and model images, pixels")
     parser.add_argument("--seed", type=int, default=0, help="the dataset's and the training's seed")

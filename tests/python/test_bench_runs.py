@@ -236,6 +236,20 @@ def test_the_report_tables_match_the_database_and_the_page_is_self_contained(smo
     assert not re.search(r"(src|href)=\"(?!data:)", page)  # no failure videos here: nothing outside the file
 
 
+def test_the_report_names_runs_as_asked_and_charts_success_per_suite(smoke_run, tmp_path):
+    """A study names its runs (a learned policy is served over openpi; "openpi @ server" would not say which), and
+    draws success per suite in the order it ran them."""
+    from culinarycut.bench.report import load_run, write_report
+    from culinarycut.bench.report_charts import success_per
+    write_report([smoke_run, smoke_run], tmp_path, labels=["learned (openpi)", "oracle"])
+    summary = (tmp_path / "report.md").read_text().split("## Success per task")[0]
+    assert "| A | learned (openpi) |" in summary and "| B | oracle |" in summary
+    rows = load_run(smoke_run).rows
+    other = [{**row, "suite": "another"} for row in rows]
+    chart = success_per([("learned", other + rows)], "suite", "Success per suite", sort_values=False)
+    assert chart.startswith(b"\x89PNG") and len(chart) > 1000
+
+
 def test_the_html_report_renders_in_a_headless_browser(smoke_run, tmp_path):
     """Every chart decodes and every table is there, as Chromium shows the page."""
     from selenium import webdriver

@@ -336,9 +336,12 @@ def to_html(blocks: list[Block], files: Path) -> str:
             f"<style>{style}</style></head><body>{''.join(body)}</body></html>\n")
 
 
-def write_report(folders: list[Path], out: Path | None = None) -> list[Path]:
-    """Writes report.md (+ report_files/) and report.html into `out` (default: the first run's folder)."""
+def write_report(folders: list[Path], out: Path | None = None, labels: list[str] | None = None) -> list[Path]:
+    """Writes report.md (+ report_files/) and report.html into `out` (default: the first run's folder);
+    `labels` names the runs in place of "policy @ server" (e.g. a learned policy served over openpi)."""
     runs = [load_run(folder) for folder in folders]
+    for run, label in zip(runs, labels or []):
+        run.label = label
     _name_runs(runs)
     out = out or folders[0]
     files = out / "report_files"

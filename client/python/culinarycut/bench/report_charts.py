@@ -26,16 +26,23 @@ def _png(figure) -> bytes:
 
 def success_per_food(runs: list[tuple[str, list[dict]]]) -> bytes:
     """Grouped bars: success rate per food, one bar per run, with 95 % Wilson intervals."""
-    foods = sorted({row["food"] for _, rows in runs for row in rows})
-    figure, axes = plt.subplots(figsize=(max(5.0, 1.1 * len(foods) * max(1, len(runs))), 3.6))
+    return success_per(runs, "food", "Success per food (95 % Wilson intervals)")
+
+
+def success_per(runs: list[tuple[str, list[dict]]], key: str, title: str, sort_values: bool = True) -> bytes:
+    """Grouped bars: success rate per value of the rows' column `key`, one bar per run, with 95 % Wilson
+    intervals (values sorted, or in first-seen order)."""
+    values = list(dict.fromkeys(str(row[key]) for _, rows in runs for row in rows))
+    values = sorted(values) if sort_values else values
+    figure, axes = plt.subplots(figsize=(min(12.0, max(5.0, 1.1 * len(values) * max(1, len(runs)))), 3.6))
     width = 0.8 / len(runs)
     for i, (label, rows) in enumerate(runs):
-        by_food = {r.key: r for r in success_by(rows, "food")}
+        by_value = {r.key: r for r in success_by(rows, key)}
         xs, rates, low, high = [], [], [], []
-        for j, food in enumerate(foods):
-            if food not in by_food:
+        for j, value in enumerate(values):
+            if value not in by_value:
                 continue
-            rate = by_food[food]
+            rate = by_value[value]
             lo, hi = rate.interval
             xs.append(j + (i - (len(runs) - 1) / 2) * width)
             rates.append(100 * rate.rate)
@@ -43,11 +50,11 @@ def success_per_food(runs: list[tuple[str, list[dict]]]) -> bytes:
             low.append(max(0.0, 100 * (rate.rate - lo)))
             high.append(max(0.0, 100 * (hi - rate.rate)))
         axes.bar(xs, rates, width, yerr=[low, high], capsize=3, label=label, color=COLOURS[i % len(COLOURS)])
-    axes.set_xticks(range(len(foods)), foods)
+    axes.set_xticks(range(len(values)), values, fontsize=8 if len(values) > 5 else None)
     axes.set_ylabel("success (%)")
     axes.set_ylim(0, 105)
-    axes.set_title("Success per food (95 % Wilson intervals)")
-    axes.legend(fontsize=8, loc="lower right")
+    axes.set_title(title)
+    axes.legend(fontsize=8, loc="best")
     axes.grid(axis="y", alpha=0.3)
     return _png(figure)
 
