@@ -49,8 +49,12 @@ def suite_text(foods: list[str], states: list[str], trials: int) -> str:
     return "\n".join(lines)
 
 
+def run_folder(study: Study, label: str) -> Path:
+    return study.root / "bench" / label.replace(" ", "-").replace("+", "plus")
+
+
 def evaluate(study: Study, args, suite: Path, label: str, policy: str, options: list) -> dict:
-    out = study.root / "bench" / label.replace(" ", "-").replace("+", "plus")
+    out = run_folder(study, label)
     command = ["-m", "culinarycut", "bench", "run", suite, "--policy", policy, *options, "--out", out,
                "--workers", args.workers, "--no-progress"]
     for server in args.server:
@@ -69,6 +73,25 @@ def last_logged(run: Path, key: str):
     for line in (run / "log.jsonl").read_text().splitlines():
         value = json.loads(line).get(key, value)
     return value
+
+
+def side_by_side(study: Study, results: dict, folder: Path) -> list[str]:
+    """The four runs as `culinarycut bench report` compares them (per task and food, the cut's position and the
+    blade's orientation against the success rule's tolerances, forces, failures) in FOLDER, and a chart of
+    success per food; the markdown lines that show them."""
+    import shutil
+    from culinarycut.bench.report import load_run, write_report as write_runs_report
+    from culinarycut.bench.report_charts import success_per
+    if folder.exists():
+        shutil.rmtree(folder)  # this study's own folder, written whole each time
+    runs = [run_folder(study, label) for label in results]
+    write_runs_report(runs, folder, labels=list(results))
+    chart = success_per([(label, load_run(run).rows) for label, run in zip(results, runs)], "food",
+                        "Saw cuts: success per food (95 % Wilson intervals)")
+    (folder / "success_per_food.png").write_bytes(chart)
+    return [f"![saw cuts: success per food]({folder.name}/success_per_food.png)", "",
+            f"The runs side by side, with the cuts' position and blade-orientation errors: [{folder.name}/report.md]"
+            f"({folder.name}/report.md).", ""]
 
 
 def write_report(study: Study, results: dict, docs: Path) -> None:
@@ -97,7 +120,8 @@ def write_report(study: Study, results: dict, docs: Path) -> None:
         strokes = "-" if r["saw_strokes_mean"] is None else f"{r['saw_strokes_mean']:.1f}"
         lines.append(f"| {label} | {r['episodes']} | {r['successes']}/{r['episodes']} | {rate} | "
                      f"{100 * r['ci95'][0]:.0f} % - {100 * r['ci95'][1]:.0f} % | {strokes} | {r['errors']} |")
-    lines += ["", "Wall time per stage (s, accumulated over resumed invocations):", "", "| stage | wall (s) |",
+    lines += [""] + side_by_side(study, results, docs / "cstm_saw")
+    lines += ["Wall time per stage (s, accumulated over resumed invocations):", "", "| stage | wall (s) |",
               "|---|---|"] + [f"| {k} | {v:.1f} |" for k, v in report["stages_wall_s"].items()]
     (docs / "cstm_saw.md").write_text("\n".join(lines) + "\n")
     study.log(f"wrote {docs / 'cstm_saw.md'} and cstm_saw.json")
