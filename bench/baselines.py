@@ -11,14 +11,19 @@ import importlib.util
 import sys
 from pathlib import Path
 
-STUDY = Path(__file__).resolve().parents[1] / "learning" / "scripts" / "baseline_study.py"
+STUDIES = Path(__file__).resolve().parents[1] / "learning" / "scripts"
+
+
+def run_study(name: str, argv: list[str]) -> int:
+    """learning/scripts/NAME.py's main with `argv` (a script, not a module of the package: loaded by its path)."""
+    spec = importlib.util.spec_from_file_location(name, STUDIES / f"{name}.py")
+    study = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(study)
+    return study.main(argv)
 
 
 def main() -> int:
-    spec = importlib.util.spec_from_file_location("baseline_study", STUDY)
-    study = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(study)
-    return study.main(sys.argv[1:])
+    return run_study("baseline_study", sys.argv[1:])
 
 
 if __name__ == "__main__":

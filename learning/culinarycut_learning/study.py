@@ -4,8 +4,10 @@ runner's run folders record the policy's url, so a resumed study must serve on t
 success rate with its 95 % Wilson interval."""
 from __future__ import annotations
 
+import datetime
 import json
 import os
+import platform
 import socket
 import sqlite3
 import subprocess
@@ -62,6 +64,17 @@ class Study:
                 self.state[key] = probe.getsockname()[1]
         self.save()
         return int(self.state[key])
+
+
+def machine() -> dict:
+    """The date and machine a study's JSON carries under "machine" (the benchmark index reads its date, CPU model
+    and cores)."""
+    import torch
+    model = next((line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
+                  if line.startswith("model name")), None) if Path("/proc/cpuinfo").is_file() else None
+    return {"date": datetime.date.today().isoformat(), "cpu_model": model or platform.processor() or "unknown",
+            "cores": os.cpu_count(), "platform": platform.platform(), "python": platform.python_version(),
+            "torch": torch.__version__}
 
 
 def serve(checkpoint: Path, device: str, port: int) -> tuple[subprocess.Popen, str]:

@@ -21,12 +21,11 @@ from __future__ import annotations
 import argparse
 import datetime
 import json
-import platform
 import sqlite3
 import sys
 from pathlib import Path
 
-from culinarycut_learning.study import CHECKOUT, Study, serve, summarise
+from culinarycut_learning.study import CHECKOUT, Study, machine, serve, summarise
 
 # The options that decide a study folder's results: another value for one of them needs another folder.
 FIXED = ("data", "foods", "states", "pairs", "image_size", "seed", "steps", "trials")
@@ -97,7 +96,7 @@ def side_by_side(study: Study, results: dict, folder: Path) -> list[str]:
 def write_report(study: Study, results: dict, docs: Path) -> None:
     o, root = study.state["options"], study.root
     report = {"generated": datetime.date.today().isoformat(), "options": o,
-              "machine": {"platform": platform.platform(), "python": platform.python_version()},
+              "machine": machine(),
               "classifier_valid_accuracy": last_logged(root / "classifier", "valid_accuracy"),
               "classifier_valid_balanced_accuracy": last_logged(root / "classifier", "valid_balanced_accuracy"),
               "generator_valid_l1": last_logged(root / "generator", "valid_l1"),
