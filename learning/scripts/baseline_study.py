@@ -99,7 +99,8 @@ def suite_reports(study: Study, results: dict, folder: Path) -> list[str]:
         write_suite_report([run for _, run in runs], folder / suite, labels=[policy_label(p) for p, _ in runs])
         for policy, run in runs:
             rows_of_policy.setdefault(policy_label(policy), []).extend(load_run(run).rows)
-        lines.append(f"- [{suite}]({folder.name}/{suite}/report.md)")
+        letters = ", ".join(f"{chr(ord('A') + i)}: {policy_label(p)}" for i, (p, _) in enumerate(runs))
+        lines.append(f"- [{suite}]({folder.name}/{suite}/report.md) ({letters})")
         lines += [f"  ![{suite}: {chart.stem}]({folder.name}/{suite}/report_files/{chart.name})"
                   for chart in sorted((folder / suite / "report_files").glob("ratio_radar_*.png"))]
     chart = success_per(list(rows_of_policy.items()), "suite", "Success per suite (95 % Wilson intervals)",
