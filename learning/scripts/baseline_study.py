@@ -97,6 +97,7 @@ def suite_reports(study: Study, results: dict, folder: Path) -> list[str]:
         if not runs:
             continue
         write_suite_report([run for _, run in runs], folder / suite, labels=[policy_label(p) for p, _ in runs])
+        (folder / suite / "report.html").unlink()  # docs/ keeps the markdown and its PNGs; the page repeats them
         for policy, run in runs:
             rows_of_policy.setdefault(policy_label(policy), []).extend(load_run(run).rows)
         letters = ", ".join(f"{chr(ord('A') + i)}: {policy_label(p)}" for i, (p, _) in enumerate(runs))

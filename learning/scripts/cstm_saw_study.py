@@ -85,6 +85,7 @@ def side_by_side(study: Study, results: dict, folder: Path) -> list[str]:
         shutil.rmtree(folder)  # this study's own folder, written whole each time
     runs = [run_folder(study, label) for label in results]
     write_runs_report(runs, folder, labels=list(results))
+    (folder / "report.html").unlink()  # docs/ keeps the markdown and its PNGs; the page repeats them inline
     chart = success_per([(label, load_run(run).rows) for label, run in zip(results, runs)], "food",
                         "Saw cuts: success per food (95 % Wilson intervals)")
     (folder / "success_per_food.png").write_bytes(chart)
