@@ -8,6 +8,7 @@ import datetime
 import json
 import os
 import platform
+import shutil
 import socket
 import sqlite3
 import subprocess
@@ -103,3 +104,14 @@ def summarise(results: Path) -> dict:
     out = numbers([o for _, o in rows])
     out["by_food"] = {food: numbers([o for f, o in rows if f == food]) for food in sorted({f for f, _ in rows})}
     return out
+
+
+def runs_report(folder: Path, runs: list[Path], labels: list[str]) -> None:
+    """Run folders side by side as `culinarycut bench report` writes them (per task, style, food and group, the ratio
+    radars, cut quality, forces, failures), named by `labels`, in FOLDER (replaced whole): its markdown and PNGs,
+    not the HTML page, which repeats the PNGs inline."""
+    from culinarycut.bench.report import write_report
+    if folder.exists():
+        shutil.rmtree(folder)
+    write_report(runs, folder, labels=labels)
+    (folder / "report.html").unlink()

@@ -29,7 +29,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from culinarycut_learning.study import CHECKOUT, Study, machine, serve, summarise
+from culinarycut_learning.study import CHECKOUT, Study, machine, runs_report, serve, summarise
 FOODS = ("cucumber", "banana")
 STYLES = ("normal", "bias", "guillotine", "saw")
 STATES = (("middle",) + tuple(f"ratio-{r / 10:g}" for r in range(1, 10))
@@ -86,7 +86,7 @@ def policy_label(policy: str) -> str:
 def suite_reports(study: Study, results: dict, folder: Path) -> list[str]:
     """Each suite's runs side by side as `culinarycut bench report` writes them (per task, style, food, group, the
     ratio radars) in FOLDER/SUITE/, and the success per suite chart; the markdown lines that show them."""
-    from culinarycut.bench.report import load_run, write_report as write_suite_report
+    from culinarycut.bench.report import load_run
     from culinarycut.bench.report_charts import success_per
     if folder.exists():
         shutil.rmtree(folder)  # this study's own folder: reports of suites no longer run go with it
@@ -96,8 +96,7 @@ def suite_reports(study: Study, results: dict, folder: Path) -> list[str]:
         runs = [(policy, study.root / "bench" / f"{suite}-{policy}") for policy, r in policies.items() if r is not None]
         if not runs:
             continue
-        write_suite_report([run for _, run in runs], folder / suite, labels=[policy_label(p) for p, _ in runs])
-        (folder / suite / "report.html").unlink()  # docs/ keeps the markdown and its PNGs; the page repeats them
+        runs_report(folder / suite, [run for _, run in runs], [policy_label(p) for p, _ in runs])
         for policy, run in runs:
             rows_of_policy.setdefault(policy_label(policy), []).extend(load_run(run).rows)
         letters = ", ".join(f"{chr(ord('A') + i)}: {policy_label(p)}" for i, (p, _) in enumerate(runs))

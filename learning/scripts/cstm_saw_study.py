@@ -25,7 +25,7 @@ import sqlite3
 import sys
 from pathlib import Path
 
-from culinarycut_learning.study import CHECKOUT, Study, machine, serve, summarise
+from culinarycut_learning.study import CHECKOUT, Study, machine, runs_report, serve, summarise
 
 # The options that decide a study folder's results: another value for one of them needs another folder.
 FIXED = ("data", "foods", "states", "pairs", "image_size", "seed", "steps", "trials")
@@ -78,14 +78,10 @@ def side_by_side(study: Study, results: dict, folder: Path) -> list[str]:
     """The four runs as `culinarycut bench report` compares them (per task and food, the cut's position and the
     blade's orientation against the success rule's tolerances, forces, failures) in FOLDER, and a chart of
     success per food; the markdown lines that show them."""
-    import shutil
-    from culinarycut.bench.report import load_run, write_report as write_runs_report
+    from culinarycut.bench.report import load_run
     from culinarycut.bench.report_charts import success_per
-    if folder.exists():
-        shutil.rmtree(folder)  # this study's own folder, written whole each time
     runs = [run_folder(study, label) for label in results]
-    write_runs_report(runs, folder, labels=list(results))
-    (folder / "report.html").unlink()  # docs/ keeps the markdown and its PNGs; the page repeats them inline
+    runs_report(folder, runs, list(results))
     chart = success_per([(label, load_run(run).rows) for label, run in zip(results, runs)], "food",
                         "Saw cuts: success per food (95 % Wilson intervals)")
     (folder / "success_per_food.png").write_bytes(chart)
