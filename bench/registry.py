@@ -173,6 +173,14 @@ BENCHMARKS: tuple[Benchmark, ...] = (
               why_not_quick="it generates a dataset, trains a model and plays suites; ctest's "
                             "python_learning_end_to_end runs the same path at a tiny size",
               folder_under="benchmarks"),
+    Benchmark("cstm_saw", "cstm_saw", "benchmarks/cstm_saw.md", "benchmarks/cstm_saw.json",
+              "the paper's saw experiment: the learned policy trained on saw cuts against trained on normal cuts and "
+              "restyled by the CSTM, beside the oracle, with the contact classifier's held-out accuracy",
+              "1 h on 2 cores after the baselines study (it trains on that study's export); resumable", ("server",),
+              args=("--out", "studies/cstm-saw", "--data", "studies/baseline/export", "--server", "127.0.0.1:50051"),
+              quick=None,
+              why_not_quick="it trains two policies, a classifier and a generator and plays saw cuts; ctest's "
+                            "python_cstm runs each part at a tiny size"),
     Benchmark("step_rollback", "step_rollback_report", "benchmarks/step_rollback.md", "benchmarks/step_rollback.json",
               "a cancellable Step's rollback while the food sleeps: lazy against the full state copy it replaced, "
               "draft, standard and fine", "1 min", ("bench_step_rollback",), quick_does="draft, 3 rounds"),
