@@ -529,7 +529,7 @@ def test_ratio_states_from_either_end():
     states = _states("middle,ratio-0.3,ratio-0.3-left,ratio-0.3-right")
     assert [s.get("reference") for s in states] == [None, "left", "left", "right"]
     config = DatasetConfig(name="t", seed=3, tasks=tuple({"style": "normal", **s, "target_object": "cucumber"}
-                                                         for s in states[1:] if s is not states[2]),
+                                                         for s in _states("ratio-0.3,ratio-0.3-right")),
                            episodes_per_task=1)
     keys = [job.key for job in make_jobs(config)]
     assert keys == ["planner/normal-ratio-0.3-cucumber/00000", "planner/normal-ratio-0.3-right-cucumber/00000"]
