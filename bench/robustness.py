@@ -16,7 +16,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import queue
 import random
 import re
@@ -27,7 +26,6 @@ import subprocess
 import sys
 import threading
 import time
-from datetime import date
 from pathlib import Path
 
 import grpc
@@ -38,6 +36,10 @@ from culinarycut.launch import ServerProcess, server_binary
 from culinarycut.policies import ScriptedOracle, run_oracle_episode
 from culinarycut.scenes import cut_cucumber_scene
 from culinarycut.wire_fuzz import RANDOM_BYTES, RANDOM_MESSAGE, all_methods, random_request
+
+if __package__ in (None, ""):  # run as a file (python bench/NAME.py): import the bench package from the checkout
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+from bench.harness.machine import dated_machine_info  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 FUZZ_SEED = 20261124        # the network fuzz test's seed: its 1,500 requests are this run's first 1,500
@@ -63,17 +65,13 @@ QUICK = {"fuzz_requests": 150, "flood_connections": 100, "flood_hold_s": 0.0, "h
 # --- the machine and the server process -----------------------------------------------------------------
 
 def machine_info() -> dict:
-    cpu = "unknown"
-    memory_gb = 0.0
+    """The harness's machine description with this page's extras: memory and the load when the run began."""
     try:
-        cpu = next(line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
-                   if line.startswith("model name"))
         memory_gb = int(Path("/proc/meminfo").read_text().split()[1]) / 2**20
-    except (OSError, StopIteration, ValueError):
-        pass
-    return {"cpu_model": cpu, "cores": os.cpu_count(), "memory_gb": round(memory_gb, 1),
-            "platform": platform.platform(), "python": platform.python_version(), "grpcio": grpc.__version__,
-            "load_average_at_start": [round(x, 2) for x in os.getloadavg()], "date": date.today().isoformat()}
+    except (OSError, IndexError, ValueError):
+        memory_gb = 0.0
+    return {**dated_machine_info(), "memory_gb": round(memory_gb, 1),
+            "load_average_at_start": [round(x, 2) for x in os.getloadavg()]}
 
 
 def proc_status(pid: int, key: str) -> int:
