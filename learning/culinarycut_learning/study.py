@@ -43,13 +43,21 @@ class Study:
         os.replace(temporary, self.path)
 
     def stage(self, name: str, command: list, ok_codes=(0,)) -> int:
-        """Runs `command` (python -m ...) with this interpreter, adding its wall time to the stage."""
-        self.log(f"{name}: {' '.join(map(str, command))}")
+        """Runs `command` (python -m ...) with this interpreter, adding its wall time to the stage; a stage that
+        already finished with the same command is not run again (its exit code is returned), so that a resumed
+        study neither waits on nor adds the time of stages with nothing left to do. Delete its entry from
+        study.json to run it again."""
+        text = [str(part) for part in command]
+        entry = self.state["stages"].get(name)
+        if entry and entry.get("command") == text and entry.get("exit_code") in ok_codes:
+            self.log(f"{name}: done ({entry['wall_s']:.0f} s)")
+            return entry["exit_code"]
+        self.log(f"{name}: {' '.join(text)}")
         started = time.monotonic()
-        code = subprocess.call([sys.executable, *map(str, command)], cwd=CHECKOUT)
+        code = subprocess.call([sys.executable, *text], cwd=CHECKOUT)
         entry = self.state["stages"].setdefault(name, {"wall_s": 0.0})
         entry["wall_s"] = round(entry["wall_s"] + time.monotonic() - started, 1)
-        entry["exit_code"] = code
+        entry["exit_code"], entry["command"] = code, text
         self.save()
         if code not in ok_codes:
             raise SystemExit(f"{name} exited {code}; fix what it says and run the same command again to resume")

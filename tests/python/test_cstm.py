@@ -518,3 +518,26 @@ def test_the_saw_study_asks_for_the_saw_tasks_it_names(tmp_path):
     (tmp_path / "study" / "study.json").write_text(json.dumps({"options": {"data": "elsewhere"}, "stages": {}}))
     with pytest.raises(SystemExit, match=r"other data options \(data, foods"):
         study_main(["--out", str(tmp_path / "study"), "--data", str(tmp_path), "--server", "127.0.0.1:1"])
+
+
+def test_a_resumed_study_skips_the_stages_it_finished_with_the_same_command(tmp_path):
+    # The studies' stages are resumable commands; one that already finished is neither run again nor timed
+    # again (a resumed study's table would otherwise grow by each no-op rerun), while another command runs.
+    from culinarycut_learning.study import Study
+    study = Study(tmp_path, {"data": "d"}, ("data",), "test")
+    runs = tmp_path / "runs.txt"
+    count = ["-c", f"open({str(runs)!r}, 'a').write('x')"]
+    assert study.stage("count", count) == 0
+    wall_s = study.state["stages"]["count"]["wall_s"]
+    resumed = Study(tmp_path, {"data": "d"}, ("data",), "test")
+    assert resumed.stage("count", count) == 0
+    assert runs.read_text() == "x" and resumed.state["stages"]["count"]["wall_s"] == wall_s
+    assert resumed.stage("count", count + ["another"]) == 0  # another command (e.g. more steps) runs
+    assert runs.read_text() == "xx"
+    failing = ["-c", "raise SystemExit(3)"]
+    with pytest.raises(SystemExit, match="fail exited 3"):
+        resumed.stage("fail", failing)
+    with pytest.raises(SystemExit, match="fail exited 3"):  # a failed stage is tried again, not skipped
+        resumed.stage("fail", failing)
+    assert resumed.stage("fail", failing, ok_codes=(0, 3)) == 3
+    assert resumed.stage("fail", failing, ok_codes=(0, 3)) == 3
