@@ -130,6 +130,12 @@ class Solver {
   // Particles integrated by the last substep; the rest are frozen (SolverConfig::activity).
   std::size_t active_count() const { return active_count_; }
 
+  // Puts the particles of food object `object` to sleep (frozen as activity freezes food: not
+  // integrated, their mass and stress a fixed load on the grid, their velocity and affine field
+  // dropped) or wakes them. Moving food that pushes a sleeping particle wakes it, as with activity;
+  // with activity's radius on, the radius decides and this is overridden at its next check.
+  void SetObjectAsleep(std::uint16_t object, bool asleep);
+
   // How many cuts the particles have recorded and whether one is under way (cut_record.h); a
   // snapshot keeps it so that a restored cut goes on recording into the same cut.
   const CutProgress& cut_progress() const { return cut_progress_; }

@@ -35,10 +35,13 @@ struct FoodModel {
   // MPM wakes up when the knife comes within this distance (m) of the food's bounding box
   // (kActivationMarginCells grid cells).
   double activation_margin_m = 0.02;
-  // ... and sleeps again when the knife is away and the food's RMS speed stays under this (m/s)
-  // for rest_duration_s.
+  // ... and sleeps again when the knife is away and the moving food's RMS speed stays under this
+  // (m/s) for rest_duration_s.
   double rest_speed_m_s = 0.005;
   double rest_duration_s = 0.05;
+  // With several foods, those the knife is away from sleep while it cuts another (food_step.cc);
+  // false simulates them all (what tests compare against).
+  bool objects_sleep = true;
   double initial_grid_nodes = 0.0;           // of the box around all foods at rest (scene_budget.h)
 };
 

@@ -2,21 +2,72 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
 
 #include "sim/mpm/physics/speed_resistance.h"
 
 namespace culinarycut {
 namespace {
 
-// Whether any part of the knife at `tcp` is within the model's activation margin of the food.
-bool KnifeNearFood(const FoodModel& model, const Eigen::Isometry3d& tcp, FoodState* state) {
+// Whether any part of the knife at `tcp` is within `margin_m` of `box`.
+bool KnifeNear(const Eigen::Isometry3d& tcp, double margin_m, const Eigen::AlignedBox3d& box, FoodState* state) {
   mpm::RigidMotion motion;
   motion.pose = tcp;
   state->solver->SetKnifeMotion(motion);
-  const Eigen::AlignedBox3d food = state->particle_bounds.cast<double>();
   const mpm::KnifeSdf& knife = *state->solver->knife();
-  return knife.BladeBounds(model.activation_margin_m).intersects(food) ||
-         knife.HandleBounds(model.activation_margin_m).intersects(food);
+  return knife.BladeBounds(margin_m).intersects(box) || knife.HandleBounds(margin_m).intersects(box);
+}
+
+// Whether any part of the knife at `tcp` is within the model's activation margin of the food.
+bool KnifeNearFood(const FoodModel& model, const Eigen::Isometry3d& tcp, FoodState* state) {
+  return KnifeNear(tcp, model.activation_margin_m, state->particle_bounds.cast<double>(), state);
+}
+
+// One food object's particles: their bounds and how many of them sleep.
+struct ObjectParticles {
+  Eigen::AlignedBox3d bounds;
+  std::size_t count = 0;
+  std::size_t asleep = 0;
+};
+
+std::vector<ObjectParticles> ParticlesByObject(const mpm::Particles<float>& p, std::size_t objects) {
+  std::vector<ObjectParticles> by_object(objects);
+  const bool has_activity = p.activity.size() == p.size();
+  for (std::size_t q = 0; q < p.size(); ++q) {
+    if (p.object[q] >= objects) continue;
+    ObjectParticles& object = by_object[p.object[q]];
+    object.bounds.extend(Eigen::Vector3d(p.position[0][q], p.position[1][q], p.position[2][q]));
+    ++object.count;
+    object.asleep += has_activity && p.activity[q] == mpm::kFrozen;
+  }
+  return by_object;
+}
+
+// With several foods, only those the knife comes near are simulated: the others sleep (frozen, a fixed
+// load on the grid) until it comes within activity's least radius of them or moving food pushes them,
+// so resting distractors cost nothing, as the whole food costs nothing while the knife is away. When
+// the food wakes, the objects away from the knife are put to sleep; while it is awake, a sleeping one
+// the knife nears, or one part-woken by a push, wakes whole. Activity's radius, when set, decides instead.
+void SleepObjectsAwayFromKnife(const FoodModel& model, const Eigen::Isometry3d& tcp_start,
+                               const Eigen::Isometry3d& tcp_end, bool food_was_asleep, FoodState* state) {
+  mpm::Solver<float>& solver = *state->solver;
+  if (!model.objects_sleep || model.objects.size() < 2 || solver.config().activity.radius_m > 0.0) return;
+  const double margin_m = mpm::kMinActivityRadiusCells * solver.config().dx_m;
+  const std::vector<ObjectParticles> objects = ParticlesByObject(solver.particles(), model.objects.size());
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const ObjectParticles& object = objects[i];
+    if (object.count == 0) continue;
+    const bool near = KnifeNear(tcp_start, margin_m, object.bounds, state) ||
+                      KnifeNear(tcp_end, margin_m, object.bounds, state);
+    const auto id = static_cast<std::uint16_t>(i);
+    if (food_was_asleep) {
+      if (near ? object.asleep > 0 : object.asleep < object.count) solver.SetObjectAsleep(id, !near);
+    } else if (object.asleep > 0 && (near || object.asleep < object.count)) {
+      solver.SetObjectAsleep(id, false);
+    }
+  }
 }
 
 // The knife's pose at fraction s in [0, 1] of the step: position linear, rotation spherical.
@@ -29,9 +80,10 @@ Eigen::Isometry3d Interpolate(const Eigen::Isometry3d& start, const Eigen::Isome
   return pose;
 }
 
-double TotalMass(const mpm::Particles<float>& particles) {
+// The mass of the particles the last substep integrated (the frozen ones are stored after them).
+double MovingMass(const mpm::Solver<float>& solver) {
   double mass_kg = 0.0;
-  for (const float m : particles.mass) mass_kg += m;
+  for (std::size_t q = 0; q < solver.active_count(); ++q) mass_kg += solver.particles().mass[q];
   return mass_kg;
 }
 
@@ -47,6 +99,7 @@ FoodStepReport AdvanceFood(const FoodModel& model, const Eigen::Isometry3d& tcp_
   const bool near = KnifeNearFood(model, tcp_end, state) || KnifeNearFood(model, tcp_start, state);
   if (!near && !state->awake) return report;
   if (before_body_changes) before_body_changes();
+  SleepObjectsAwayFromKnife(model, tcp_start, tcp_end, !state->awake, state);
   state->awake = true;
 
   mpm::Solver<float>& solver = *state->solver;
@@ -104,8 +157,9 @@ FoodStepReport AdvanceFood(const FoodModel& model, const Eigen::Isometry3d& tcp_
   const double speed_m_s = motion.linear_velocity_m_s.norm();
   state->knife_speed_factor = mpm::SpeedResistanceFactor(speed_m_s, resistance_sum);
 
-  // Sleep again once the knife has gone and the food has come to rest.
-  const double rms_speed_m_s = std::sqrt(2.0 * kinetic_energy_j / TotalMass(solver.particles()));
+  // Sleep again once the knife has gone and the food has come to rest (what moves: frozen food is at rest).
+  const double moving_mass_kg = MovingMass(solver);
+  const double rms_speed_m_s = moving_mass_kg > 0.0 ? std::sqrt(2.0 * kinetic_energy_j / moving_mass_kg) : 0.0;
   const bool still_near = KnifeNearFood(model, tcp_end, state);
   state->quiet_time_s = (!still_near && rms_speed_m_s < model.rest_speed_m_s) ? state->quiet_time_s + duration_s : 0.0;
   if (state->quiet_time_s >= model.rest_duration_s) {

@@ -3,7 +3,9 @@
 // and deformation, and its mass and stress force go on acting on the grid as a fixed load, so the
 // food beside it still leans on it. It wakes when the blade comes within the radius or a grid node
 // it shares with moving food moves faster than the wake speed. Frozen particles are stored after
-// the moving ones, so every stage of the substep runs over [0, active_count_) unchanged.
+// the moving ones, so every stage of the substep runs over [0, active_count_) unchanged. The same
+// freezing puts whole food objects to sleep (SetObjectAsleep: a scene's resting distractors) with the
+// radius off.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -37,6 +39,16 @@ void ForEachSharedNode(const Grid& grid, const Load& load, Visit&& visit) {
   }
 }
 
+// Substeps between activity checks: every few, sooner for a fast knife, which must not cross more than
+// a cell between checks (the radius keeps 5 cells between the blade and frozen food).
+std::uint64_t CheckInterval(const KnifeSdf& knife, const SubstepContext& context, int most) {
+  const double knife_speed_m_s = knife.motion().linear_velocity_m_s.norm() +
+                                 knife.motion().angular_velocity_rad_s.norm() *
+                                     (0.5 * knife.geometry().blade_length_m + knife.geometry().blade_height_m);
+  const double steps_per_cell = knife_speed_m_s > 0.0 ? context.dx_m / (knife_speed_m_s * context.dt_s) : 1e9;
+  return static_cast<std::uint64_t>(std::clamp(std::floor(steps_per_cell), 1.0, double(most)));
+}
+
 }  // namespace
 
 template <typename Real>
@@ -45,8 +57,9 @@ void Solver<Real>::UpdateActivity(const SubstepContext& context) {
   const std::size_t n = p.size();
   const Activity& activity = config().activity;
   FrozenLoad& frozen = *frozen_;
-  if (activity.radius_m <= 0.0 || !knife_) {
-    active_count_ = n;  // off: every particle moves, whatever its activity field says
+  const bool radius_on = activity.radius_m > 0.0;
+  if (radius_on && !knife_) {
+    active_count_ = n;  // no blade to measure the radius from: every particle moves
     frozen.valid = false;
     return;
   }
@@ -60,21 +73,20 @@ void Solver<Real>::UpdateActivity(const SubstepContext& context) {
       break;
     }
   }
+  if (!radius_on && first_frozen == n) {
+    active_count_ = n;  // off and no object asleep (SetObjectAsleep): every particle moves
+    frozen.valid = false;
+    return;
+  }
   bool partitioned = true;
   for (std::size_t q = first_frozen; q < n && partitioned; ++q) partitioned = p.activity[q] == kFrozen;
 
-  // Checked every few substeps; sooner for a fast knife, which must not cross more than a cell
-  // between checks (the radius keeps 5 cells between the blade and frozen food).
-  const KnifeSdf& knife = *knife_;
-  const double knife_speed_m_s = knife.motion().linear_velocity_m_s.norm() +
-                                 knife.motion().angular_velocity_rad_s.norm() *
-                                     (0.5 * knife.geometry().blade_length_m + knife.geometry().blade_height_m);
-  const double steps_per_cell = knife_speed_m_s > 0.0 ? context.dx_m / (knife_speed_m_s * context.dt_s) : 1e9;
-  const std::uint64_t every = static_cast<std::uint64_t>(
-      std::clamp(std::floor(steps_per_cell), 1.0, double(activity.check_every_substeps)));
-  const bool scheduled = workspace_->substeps_since_reorder % every == 0;
+  // Radius off, only the objects put to sleep are frozen: nothing is checked, they wake when pushed.
   bool changed = !partitioned;
-  if (scheduled) {
+  const bool check = radius_on && workspace_->substeps_since_reorder %
+                                          CheckInterval(*knife_, context, activity.check_every_substeps) == 0;
+  if (check) {
+    const KnifeSdf& knife = *knife_;
     const double dx = context.dx_m;
     const Real sleep_speed = Real(activity.sleep_speed_m_s);
     const Real sleep_speed_sq = sleep_speed * sleep_speed;
@@ -122,6 +134,21 @@ void Solver<Real>::UpdateActivity(const SubstepContext& context) {
     active_count_ = first_frozen;
   }
   if (!frozen.valid) BuildFrozenLoad(context);
+}
+
+template <typename Real>
+void Solver<Real>::SetObjectAsleep(std::uint16_t object, bool asleep) {
+  Particles<Real>& p = particles_;
+  if (p.activity.size() != p.size()) p.activity.resize(p.size(), 0);
+  for (std::size_t q = 0; q < p.size(); ++q) {
+    if (p.object[q] != object || (p.activity[q] == kFrozen) == asleep) continue;
+    p.activity[q] = asleep ? kFrozen : std::uint8_t(0);
+    if (!asleep) continue;
+    for (int axis = 0; axis < 3; ++axis) p.velocity[axis][q] = Real(0);
+    for (int k = 0; k < 9; ++k) p.C[k][q] = Real(0);
+  }
+  // The next substep finds them out of order (or the frozen set changed): it repartitions and rebuilds the load.
+  frozen_->valid = false;
 }
 
 // The frozen particles' mass and stress force on the nodes of their own box: P2G's stress pass at
@@ -240,6 +267,8 @@ void Solver<Real>::WakePushedFrozenParticles() {
   std::fill(frozen.pushed.begin(), frozen.pushed.end(), std::uint8_t(0));
 }
 
+template void Solver<float>::SetObjectAsleep(std::uint16_t, bool);
+template void Solver<double>::SetObjectAsleep(std::uint16_t, bool);
 template void Solver<float>::WakePushedFrozenParticles();
 template void Solver<double>::WakePushedFrozenParticles();
 template void Solver<float>::UpdateActivity(const SubstepContext&);
