@@ -53,6 +53,8 @@ def test_every_shipped_suite_loads_and_the_paper_settings_are_there():
      r"topology, scene, language, quality, mpm, trials, max_episode_steps, material_overrides, safety_limiter, "
      r"safety$"),
     ('mpm = { cfl = 1.5 }\n[[tasks]]\nfood = "apple"\nstate = "middle"\n', r"^suite.mpm.cfl: 1.5 is greater than"),
+    ('mpm = { activity_radius = 2 }\n[[tasks]]\nfood = "apple"\nstate = "middle"\n',
+     r"^suite.mpm.activity_radius: 2 is greater than"),
     ('randomize = { yaw = 5 }\n[[tasks]]\nfood = "apple"\nstate = "middle"\n',
      r"^suite.randomize: .*'yaw' was unexpected\); valid fields: position_m, yaw_deg, scale$"),
     ('[report]\nratio_radar = true\n[[tasks]]\nfood = "apple"\nstate = "middle"\n',
@@ -80,9 +82,10 @@ def test_list_fields_expand_into_named_tasks(tmp_path):
 def test_mpm_overrides_reach_the_episode_scene_task_over_suite(tmp_path):
     suite = load_suite(write_suite(tmp_path, 'mpm = { cfl = 0.3 }\n[[tasks]]\nfood = "apple"\nstate = "middle"\n'
                                              '[[tasks]]\nfood = "banana"\nstate = "middle"\n'
-                                             'mpm = { cfl = 0.5, particles_per_cell = 6 }\n'))
+                                             'mpm = { cfl = 0.5, particles_per_cell = 6, activity_radius = 0.04 }\n'))
     apple, banana = (episode_spec(suite, task, 0).scene for task in suite.tasks)
-    assert apple["mpm"] == {"cfl": 0.3} and banana["mpm"] == {"cfl": 0.5, "particles_per_cell": 6}
+    assert apple["mpm"] == {"cfl": 0.3}
+    assert banana["mpm"] == {"cfl": 0.5, "particles_per_cell": 6, "activity_radius": 0.04}
     assert "mpm" not in episode_spec(load_suite("smoke"), load_suite("smoke").tasks[0], 0).scene
 
 
