@@ -213,6 +213,13 @@ def test_a_run_refuses_to_mix_server_versions_unless_told(address, tmp_path):
     assert other_suite.returncode == 1 and "holds a run with suite = smoke" in other_suite.stderr
     bench("run", "smoke", *one_task, "--allow-mixed-versions")
     assert len(rows(out)) == 2
+    # Finished, the run may be resumed from another build (a study going on to its next suite): nothing to store.
+    db = sqlite3.connect(out / "results.sqlite")
+    with db:
+        db.execute("UPDATE episodes SET server_version = '0.0.1', build_id = 'elsewhere'")
+    db.close()
+    finished = bench("run", "smoke", *one_task)
+    assert "this run: 0 episodes" in finished.stdout and len(rows(out)) == 2
 
 
 def test_the_report_tables_match_the_database_and_the_page_is_self_contained(smoke_run, tmp_path):
