@@ -9,6 +9,7 @@ import sys
 import pytest
 
 from culinarycut.bench.episode_scene import DISTRACTOR_SLOTS_M, episode_spec, suite_episodes
+from culinarycut.bench.knife_reach import distractors_in_reach
 from culinarycut.bench.suite import SuiteError, available_suites, episode_seed, load_suite
 
 SHIPPED = ["smoke", "unseen-seeds", "multi-object", "unseen-language", "cross-object", "continuous-ratio",
@@ -111,6 +112,21 @@ def test_distractors_are_other_foods_in_distinct_slots_around_the_target():
         assert len(offsets) == 4
         for dx, dy in offsets:  # each distractor sits in one of the slots, give or take the jitter
             assert min(abs(dx - sx) + abs(dy - sy) for sx, sy in DISTRACTOR_SLOTS_M) < 0.1
+
+
+def test_no_distractor_lies_where_the_knife_reaches_while_it_cuts_the_target():
+    """Every multi-object episode's distractors clear the knife's sweep (blade, handle, saw strokes) for cuts
+    anywhere from 0.1 to 0.9 of the target's length; the sweep is checked on a scene the oracle failed in."""
+    for episode in suite_episodes(load_suite("multi-object")):
+        assert distractors_in_reach(episode.scene["objects"]) == [], episode.key
+    # A banana saw cut the oracle failed when a 22 cm slot behind the target held an apple: its handle
+    # pressed on the apple at 113 N (2026-12-07), and the sweep says so.
+    banana = {"food": "banana", "scale": 0.945, "pose": {"position": [0.516, 0.011, 0.037],
+                                                         "quaternion": [0.673, 0.0, 0.0, 0.740]}}
+    apple = {"food": "apple", "scale": 1.069, "pose": {"position": [0.313, 0.010, 0.058],
+                                                       "quaternion": [0.731, 0.0, 0.0, 0.683]}}
+    assert distractors_in_reach([banana, apple]) == [1]
+    assert distractors_in_reach([banana, {**apple, "pose": {**apple["pose"], "position": [0.80, 0.010, 0.058]}}]) == []
 
 
 @pytest.mark.parametrize("argv, message", [

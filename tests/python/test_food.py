@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from culinarycut import errors
+from culinarycut.bench.knife_reach import FOOD_HALF_FOOTPRINT_M
 from culinarycut.client import food_to_dict
 from culinarycut.policies import ScriptedOracle, run_oracle_episode
 
@@ -239,3 +240,22 @@ def test_restore_then_replay_gives_identical_force_traces(client, mpm, food):
     assert replay() == original
     assert any(np.linalg.norm(wrench[:3]) > 0 for wrench, _ in original)
     client.close_session(session)
+
+
+def test_the_knife_reach_footprints_hold_each_food_the_server_makes(client):
+    """The distractor layout's food footprints (bench/knife_reach.py) against the particles of each food at
+    scale 1 lying along world x: each footprint covers its food, within one draft cell of slack."""
+    scene = cutting_scene(*[{"food": food, "pose": {"position": [0.30 + 0.25 * (i % 3), -0.30 + 0.30 * (i // 3)],
+                                                    "quaternion": [1.0, 0.0, 0.0, 0.0]}}
+                            for i, food in enumerate(FOOD_HALF_FOOTPRINT_M)])
+    handshake = client.create_session(scene)
+    response = client.reset(handshake.session_id, seed=0)
+    pieces = food_to_dict(response.observation)["pieces"]
+    for index, (food, (half_length_m, half_width_m)) in enumerate(FOOD_HALF_FOOTPRINT_M.items()):
+        own = [p for p in pieces if p["object"] == index]
+        low = np.min([p["bounds_min"] for p in own], axis=0)
+        high = np.max([p["bounds_max"] for p in own], axis=0)
+        half = 0.5 * (high - low)[:2]
+        assert half[0] <= half_length_m + 1e-3 and half[1] <= half_width_m + 1e-3, (food, half)
+        assert half[0] >= half_length_m - 0.008 and half[1] >= half_width_m - 0.008, (food, half)  # not loose
+    client.close_session(handshake.session_id)

@@ -12,10 +12,13 @@ from culinarycut.datasets.object_frame import half_extents_in_object_frame
 
 FOODS = ("banana", "cucumber", "apple", "peach", "melon", "orange", "strawberry")
 BOARD_CENTER_XY_M = (0.50, 0.0)  # the cutting board's centre on the table (sim/core/scene_layout.h)
-# Distractor slots around the target (dx, dy in m): the blade (20 cm long, along x) never reaches a
-# food 22 cm away along x, and along y a food 28 cm away clears the longest (melon, 18 cm) end to end.
-DISTRACTOR_SLOTS_M = ((0.22, 0.0), (-0.22, 0.0), (0.0, 0.28), (0.0, -0.28),
-                      (0.22, 0.28), (0.22, -0.28), (-0.22, 0.28), (-0.22, -0.28))
+# Distractor slots around the target (dx, dy in m), clear of everything the knife sweeps while it cuts the
+# target (knife_reach.py: the blade lies along x, its tip 10 cm ahead of the edge's middle and its handle 21 cm
+# behind it, towards the robot, plus a saw stroke): ahead, 28 cm clears a melon given the jitter; behind,
+# no slot on the blade's line (a food there would sit at the robot's base); along y, 28 cm clears the
+# longest foods end to end.
+DISTRACTOR_SLOTS_M = ((0.28, 0.0), (0.0, 0.28), (0.0, -0.28),
+                      (0.28, 0.28), (0.28, -0.28), (-0.22, 0.28), (-0.22, -0.28))
 CUTTING_EFFECTS = {"mpm": True, "damage": True, "friction": True, "force_sensing": True}
 
 

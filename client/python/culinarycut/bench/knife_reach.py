@@ -1,0 +1,94 @@
+"""What the knife sweeps on the table while it cuts a food the way the scripted oracle does, and whether a
+distractor lies in it: the knife is longer behind its cutting edge than ahead of it (the handle), so a food
+placed beside the target along the blade can be pressed by the handle while the target is cut.
+
+Written here rather than asked of the server: a suite's scenes are drawn on the client from the seed alone,
+before any server is reached. The sizes below are the server's (tested against a live reset)."""
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+
+import numpy as np
+
+# The knife in its TCP frame (docs/robot.md; sim/mpm/colliders.h, KnifeGeometry): x along the blade.
+KNIFE_AHEAD_M = 0.10      # the tip, half the 20 cm blade
+KNIFE_BEHIND_M = 0.21     # the handle's end: its 11 cm box centred 15.5 cm behind the TCP
+KNIFE_HALF_WIDTH_M = 0.01  # the handle's 20 mm; the blade is 2 mm
+SAW_AMPLITUDE_MAX_M = 0.025  # the longest saw stroke's half-length along the blade (the cut planner's range)
+
+# Each food's footprint at scale 1: half its length along its own x (its long axis) and half its width
+# across it (m), from the food shapes (sim/mpm/food_shapes.cc; the banana's width holds its bow).
+FOOD_HALF_FOOTPRINT_M = {
+    "cucumber": (0.10, 0.020),
+    "banana": (0.09, 0.034),
+    "apple": (0.04, 0.040),
+    "peach": (0.035, 0.035),
+    "orange": (0.0375, 0.0375),
+    "melon": (0.10, 0.075),
+    "strawberry": (0.0175, 0.0125),
+}
+# The cut positions the suites ask for: fractions 0.1-0.9 of the length, from either end.
+CUT_FRACTIONS = (0.1, 0.9)
+
+
+def _yaw_of(quaternion: Sequence[float]) -> float:
+    """The yaw (rad) of a (w, x, y, z) rotation about world z: where the food's long axis points."""
+    w, _, _, z = quaternion
+    return 2.0 * math.atan2(z, w)
+
+
+def _rectangle(center_xy, axis_yaw_rad: float, along: tuple[float, float], across: tuple[float, float]) -> np.ndarray:
+    """The 4 corners (m) of a rectangle on the table: `along` and `across` are its (low, high) extents from
+    `center_xy` along the direction at `axis_yaw_rad` and across it."""
+    u = np.array([math.cos(axis_yaw_rad), math.sin(axis_yaw_rad)])
+    v = np.array([-u[1], u[0]])
+    c = np.asarray(center_xy, dtype=float)
+    corners = ((along[0], across[0]), (along[0], across[1]), (along[1], across[1]), (along[1], across[0]))
+    return np.array([c + a * u + b * v for a, b in corners])
+
+
+def _separated(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether two convex polygons on the table do not overlap (separating axis test)."""
+    for polygon in (a, b):
+        for i in range(len(polygon)):
+            edge = polygon[(i + 1) % len(polygon)] - polygon[i]
+            normal = np.array([-edge[1], edge[0]])
+            pa, pb = a @ normal, b @ normal
+            if pa.max() < pb.min() or pb.max() < pa.min():
+                return True
+    return False
+
+
+def food_footprint(food: dict) -> np.ndarray:
+    """A scene object's footprint on the table (its rotated box's corners, m)."""
+    half_length, half_width = FOOD_HALF_FOOTPRINT_M[food["food"]]
+    scale = float(food.get("scale", 1.0))
+    position = food["pose"]["position"]
+    return _rectangle(position[:2], _yaw_of(food["pose"]["quaternion"]),
+                      (-scale * half_length, scale * half_length), (-scale * half_width, scale * half_width))
+
+
+def knife_sweep(target: dict, fractions: tuple[float, float] = CUT_FRACTIONS) -> np.ndarray:
+    """What the knife covers on the table (corners, m) cutting `target` across its long axis anywhere from
+    `fractions[0]` to `fractions[1]` of its length from either end, the blade square to the food, its handle
+    towards the robot (world -x) and swinging the longest saw stroke along the blade."""
+    half_length, _ = FOOD_HALF_FOOTPRINT_M[target["food"]]
+    scale = float(target.get("scale", 1.0))
+    reach_m = scale * half_length * (1.0 - 2.0 * min(fractions[0], 1.0 - fractions[1]))  # TCP from the centre
+    food_yaw = _yaw_of(target["pose"]["quaternion"])
+    tip_yaw = food_yaw + math.pi / 2  # the blade lies square to the food's long axis
+    if math.cos(tip_yaw) < 0.0:  # the tip points away from the robot (world +x), the handle towards it
+        tip_yaw += math.pi
+    position = target["pose"]["position"]
+    along = (-KNIFE_BEHIND_M - SAW_AMPLITUDE_MAX_M, KNIFE_AHEAD_M + SAW_AMPLITUDE_MAX_M)
+    across = (-reach_m - KNIFE_HALF_WIDTH_M, reach_m + KNIFE_HALF_WIDTH_M)
+    return _rectangle(position[:2], tip_yaw, along, across)
+
+
+def distractors_in_reach(objects: Iterable[dict]) -> list[int]:
+    """Indices of the scene's distractors (every object after the first, the target) that the knife can
+    touch while it cuts the target anywhere the suites ask."""
+    objects = list(objects)
+    sweep = knife_sweep(objects[0])
+    return [i for i, food in enumerate(objects[1:], start=1) if not _separated(sweep, food_footprint(food))]
