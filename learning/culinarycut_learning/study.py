@@ -114,12 +114,14 @@ def summarise(results: Path) -> dict:
     return out
 
 
-def runs_report(folder: Path, runs: list[Path], labels: list[str]) -> None:
+def runs_report(folder: Path, runs: list[Path], labels: list[str], study_root: Path) -> None:
     """Run folders side by side as `culinarycut bench report` writes them (per task, style, food and group, the ratio
     radars, cut quality, forces, failures), named by `labels`, in FOLDER (replaced whole): its markdown and PNGs,
-    not the HTML page, which repeats the PNGs inline."""
+    not the HTML page, which repeats the PNGs inline. The runs' folders are named from the study's (STUDY/...), so
+    the report says nothing of the machine it ran on."""
     from culinarycut.bench.report import write_report
     if folder.exists():
         shutil.rmtree(folder)
-    write_report(runs, folder, labels=labels)
+    names = [f"STUDY/{run.resolve().relative_to(study_root.resolve())}" for run in runs]
+    write_report(runs, folder, labels=labels, folder_names=names)
     (folder / "report.html").unlink()

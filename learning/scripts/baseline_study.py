@@ -96,7 +96,7 @@ def suite_reports(study: Study, results: dict, folder: Path) -> list[str]:
         runs = [(policy, study.root / "bench" / f"{suite}-{policy}") for policy, r in policies.items() if r is not None]
         if not runs:
             continue
-        runs_report(folder / suite, [run for _, run in runs], [policy_label(p) for p, _ in runs])
+        runs_report(folder / suite, [run for _, run in runs], [policy_label(p) for p, _ in runs], study.root)
         for policy, run in runs:
             rows_of_policy.setdefault(policy_label(policy), []).extend(load_run(run).rows)
         letters = ", ".join(f"{chr(ord('A') + i)}: {policy_label(p)}" for i, (p, _) in enumerate(runs))

@@ -248,9 +248,11 @@ def test_the_report_names_runs_as_asked_and_charts_success_per_suite(smoke_run, 
     draws success per suite in the order it ran them."""
     from culinarycut.bench.report import load_run, write_report
     from culinarycut.bench.report_charts import success_per
-    write_report([smoke_run, smoke_run], tmp_path, labels=["learned (openpi)", "oracle"])
+    write_report([smoke_run, smoke_run], tmp_path, labels=["learned (openpi)", "oracle"],
+                 folder_names=["STUDY/bench/learned", "STUDY/bench/oracle"])
     summary = (tmp_path / "report.md").read_text().split("## Success per task")[0]
-    assert "| A | learned (openpi) |" in summary and "| B | oracle |" in summary
+    assert "| A | learned (openpi) | STUDY/bench/learned |" in summary and "| B | oracle | STUDY/bench/oracle |" in summary
+    assert str(smoke_run) not in summary  # the study's own names, not the machine's paths
     rows = load_run(smoke_run).rows
     other = [{**row, "suite": "another"} for row in rows]
     chart = success_per([("learned", other + rows)], "suite", "Success per suite", sort_values=False)

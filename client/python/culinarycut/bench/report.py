@@ -37,6 +37,7 @@ class Run:
     rows: list[dict]
     traces: list[tuple[str, dict]]
     short: str = ""        # A, B, ... where several runs stand side by side; the label alone otherwise
+    shown_folder: str = ""  # how the report names the folder (its path unless told)
 
     @property
     def title(self) -> str:
@@ -249,7 +250,7 @@ def build_blocks(runs: list[Run]) -> list[Block]:
     for run in runs:
         overall = success_by(run.rows, lambda _: "all")[0]
         harness = sum(r["wall_s"] - r["env_wall_s"] - r["policy_wall_s"] for r in run.rows)
-        summary_rows.append([run.short, run.label, str(run.folder)] + rate_cells(overall)[1:] +
+        summary_rows.append([run.short, run.label, run.shown_folder or str(run.folder)] + rate_cells(overall)[1:] +
                             [f"{sum(r['wall_s'] for r in run.rows) / len(run.rows):.1f}",
                              f"{100 * harness / max(1e-9, sum(r['wall_s'] for r in run.rows)):.1f} %"])
     header = ["run", "policy @ server", "folder", "success", "rate", "95 % CI (Wilson)", "errors",
@@ -336,12 +337,16 @@ def to_html(blocks: list[Block], files: Path) -> str:
             f"<style>{style}</style></head><body>{''.join(body)}</body></html>\n")
 
 
-def write_report(folders: list[Path], out: Path | None = None, labels: list[str] | None = None) -> list[Path]:
+def write_report(folders: list[Path], out: Path | None = None, labels: list[str] | None = None,
+                 folder_names: list[str] | None = None) -> list[Path]:
     """Writes report.md (+ report_files/) and report.html into `out` (default: the first run's folder);
-    `labels` names the runs in place of "policy @ server" (e.g. a learned policy served over openpi)."""
+    `labels` names the runs in place of "policy @ server" (e.g. a learned policy served over openpi) and
+    `folder_names` their folders in place of the paths (e.g. relative to a study's folder)."""
     runs = [load_run(folder) for folder in folders]
     for run, label in zip(runs, labels or []):
         run.label = label
+    for run, name in zip(runs, folder_names or []):
+        run.shown_folder = name
     _name_runs(runs)
     out = out or folders[0]
     files = out / "report_files"
