@@ -49,7 +49,8 @@ def _rectangle(center_xy, axis_yaw_rad: float, along: tuple[float, float], acros
 
 
 def _separated(a: np.ndarray, b: np.ndarray) -> bool:
-    """Whether two convex polygons on the table do not overlap (separating axis test)."""
+    """Whether two convex polygons on the table do not overlap (the separating axis test: a few lines, where a
+    geometry library would be a dependency for one question)."""
     for polygon in (a, b):
         for i in range(len(polygon)):
             edge = polygon[(i + 1) % len(polygon)] - polygon[i]
