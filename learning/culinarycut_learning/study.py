@@ -32,6 +32,7 @@ class Study:
         if changed:
             raise SystemExit(f"{root} holds a study with other data options ({', '.join(changed)}); use another --out")
         self.state["options"] = options
+        self.called: list[str] = []  # stages in the order this run reached them (the report's order)
         self.save()
 
     def log(self, text: str) -> None:
@@ -48,6 +49,7 @@ class Study:
         study neither waits on nor adds the time of stages with nothing left to do. Delete its entry from
         study.json to run it again."""
         text = [str(part) for part in command]
+        self.called.append(name)
         entry = self.state["stages"].get(name)
         if entry and entry.get("command") == text and entry.get("exit_code") in ok_codes:
             self.log(f"{name}: done ({entry['wall_s']:.0f} s)")
@@ -62,6 +64,12 @@ class Study:
         if code not in ok_codes:
             raise SystemExit(f"{name} exited {code}; fix what it says and run the same command again to resume")
         return code
+
+    def stage_times(self) -> dict[str, float]:
+        """Each stage's accumulated wall time (s), in the order this run reached them, then any others."""
+        stages = self.state["stages"]
+        names = [n for n in self.called if n in stages] + sorted(n for n in stages if n not in self.called)
+        return {name: stages[name]["wall_s"] for name in dict.fromkeys(names)}
 
     def port(self, key: str = "port", wanted: int | None = None) -> int:
         """A policy server's port under `key`: `wanted`, else the one chosen free on the study's first run."""

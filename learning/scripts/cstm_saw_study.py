@@ -97,7 +97,7 @@ def write_report(study: Study, results: dict, docs: Path) -> None:
               "classifier_valid_accuracy": last_logged(root / "classifier", "valid_accuracy"),
               "classifier_valid_balanced_accuracy": last_logged(root / "classifier", "valid_balanced_accuracy"),
               "generator_valid_l1": last_logged(root / "generator", "valid_l1"),
-              "stages_wall_s": {k: v["wall_s"] for k, v in study.state["stages"].items()}, "policies": results}
+              "stages_wall_s": study.stage_times(), "policies": results}
     docs.mkdir(parents=True, exist_ok=True)
     (docs / "cstm_saw.json").write_text(json.dumps(report, indent=1, sort_keys=True) + "\n")
     accuracy = report["classifier_valid_accuracy"]

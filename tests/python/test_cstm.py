@@ -541,3 +541,8 @@ def test_a_resumed_study_skips_the_stages_it_finished_with_the_same_command(tmp_
         resumed.stage("fail", failing)
     assert resumed.stage("fail", failing, ok_codes=(0, 3)) == 3
     assert resumed.stage("fail", failing, ok_codes=(0, 3)) == 3
+    # The report lists stages in the order a run reaches them (study.json keeps them sorted by name).
+    again = Study(tmp_path, {"data": "d"}, ("data",), "test")
+    again.stage("fail", failing, ok_codes=(0, 3))
+    again.stage("count", count + ["another"])
+    assert list(again.stage_times()) == ["fail", "count"]
