@@ -6,10 +6,11 @@ Written here rather than asked of the server: a suite's scenes are drawn on the 
 before any server is reached. The sizes below are the server's (tested against a live reset)."""
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable, Sequence
 
 import numpy as np
+
+from culinarycut.datasets.object_frame import quat_to_matrix
 
 # The knife in its TCP frame (docs/robot.md; sim/mpm/colliders.h, KnifeGeometry): x along the blade.
 KNIFE_AHEAD_M = 0.10      # the tip, half the 20 cm blade
@@ -32,16 +33,15 @@ FOOD_HALF_FOOTPRINT_M = {
 CUT_FRACTIONS = (0.1, 0.9)
 
 
-def _yaw_of(quaternion: Sequence[float]) -> float:
-    """The yaw (rad) of a (w, x, y, z) rotation about world z: where the food's long axis points."""
-    w, _, _, z = quaternion
-    return 2.0 * math.atan2(z, w)
+def _long_axis_xy(quaternion: Sequence[float]) -> np.ndarray:
+    """Where a food's long axis (its own x) points on the table: a unit vector, from its (w, x, y, z) pose."""
+    axis = quat_to_matrix(quaternion)[:2, 0]
+    return axis / np.linalg.norm(axis)
 
 
-def _rectangle(center_xy, axis_yaw_rad: float, along: tuple[float, float], across: tuple[float, float]) -> np.ndarray:
+def _rectangle(center_xy, u: np.ndarray, along: tuple[float, float], across: tuple[float, float]) -> np.ndarray:
     """The 4 corners (m) of a rectangle on the table: `along` and `across` are its (low, high) extents from
-    `center_xy` along the direction at `axis_yaw_rad` and across it."""
-    u = np.array([math.cos(axis_yaw_rad), math.sin(axis_yaw_rad)])
+    `center_xy` along the unit vector `u` and across it."""
     v = np.array([-u[1], u[0]])
     c = np.asarray(center_xy, dtype=float)
     corners = ((along[0], across[0]), (along[0], across[1]), (along[1], across[1]), (along[1], across[0]))
@@ -66,7 +66,7 @@ def food_footprint(food: dict) -> np.ndarray:
     half_length, half_width = FOOD_HALF_FOOTPRINT_M[food["food"]]
     scale = float(food.get("scale", 1.0))
     position = food["pose"]["position"]
-    return _rectangle(position[:2], _yaw_of(food["pose"]["quaternion"]),
+    return _rectangle(position[:2], _long_axis_xy(food["pose"]["quaternion"]),
                       (-scale * half_length, scale * half_length), (-scale * half_width, scale * half_width))
 
 
@@ -77,14 +77,14 @@ def knife_sweep(target: dict, fractions: tuple[float, float] = CUT_FRACTIONS) ->
     half_length, _ = FOOD_HALF_FOOTPRINT_M[target["food"]]
     scale = float(target.get("scale", 1.0))
     reach_m = scale * half_length * (1.0 - 2.0 * min(fractions[0], 1.0 - fractions[1]))  # TCP from the centre
-    food_yaw = _yaw_of(target["pose"]["quaternion"])
-    tip_yaw = food_yaw + math.pi / 2  # the blade lies square to the food's long axis
-    if math.cos(tip_yaw) < 0.0:  # the tip points away from the robot (world +x), the handle towards it
-        tip_yaw += math.pi
+    long_axis = _long_axis_xy(target["pose"]["quaternion"])
+    tip = np.array([-long_axis[1], long_axis[0]])  # the blade lies square to the food's long axis
+    if tip[0] < 0.0:  # the tip points away from the robot (world +x), the handle towards it
+        tip = -tip
     position = target["pose"]["position"]
     along = (-KNIFE_BEHIND_M - SAW_AMPLITUDE_MAX_M, KNIFE_AHEAD_M + SAW_AMPLITUDE_MAX_M)
     across = (-reach_m - KNIFE_HALF_WIDTH_M, reach_m + KNIFE_HALF_WIDTH_M)
-    return _rectangle(position[:2], tip_yaw, along, across)
+    return _rectangle(position[:2], tip, along, across)
 
 
 def distractors_in_reach(objects: Iterable[dict]) -> list[int]:
